@@ -1,0 +1,181 @@
+// ffdtool: the command line. Subcommands only; the work is in lib/.
+// Exit codes: 0 done (compare: within tolerance), 1 compare found a difference,
+// 2 bad input (usage, file, script), 3 failure while running.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+#include "common/errors.h"
+#include "common/numbers.h"
+#include "mesh/mesh_compare.h"
+#include "mesh/mesh_info.h"
+#include "mesh/mesh_io.h"
+#include "script/runner.h"
+#include "script/schema.h"
+#include "script/script.h"
+
+namespace {
+
+int fail(int code, const std::string& message) {
+  std::fprintf(stderr, "ffdtool: error: %s\n", message.c_str());
+  return code;
+}
+
+int command_compare(const std::string& a_path, const std::string& b_path, double tolerance,
+                    const std::string& metric, bool as_json) {
+  const ffd::Mesh a = ffd::read_mesh(a_path);
+  const ffd::Mesh b = ffd::read_mesh(b_path);
+  ffd::MeshDifference d;
+  if (metric == "vertex") {
+    d = ffd::compare_vertices(a, b);
+  } else {
+    const ffd::MeshInfo info = ffd::mesh_info(a);
+    // The Hausdorff estimate's own error stays well below the tolerance asked for.
+    const double bound = tolerance > 0 ? tolerance / 10 : 1e-6 * info.diagonal;
+    d = ffd::compare_hausdorff(a, b, bound);
+  }
+  const bool within = d.comparable && d.max <= tolerance && (metric != "vertex" || d.same_connectivity);
+  if (as_json) {
+    nlohmann::json j = {{"metric", d.metric}, {"comparable", d.comparable}, {"within_tolerance", within},
+                        {"tolerance", tolerance}, {"same_connectivity", d.same_connectivity}};
+    if (d.comparable) {
+      j["max"] = d.max;
+      j["mean"] = d.mean;
+      j["rms"] = d.rms;
+      if (metric == "vertex") j["worst_vertex"] = d.worst_vertex;
+    }
+    if (!d.reason.empty()) j["reason"] = d.reason;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    if (!d.comparable) {
+      std::printf("not comparable: %s\n", d.reason.c_str());
+    } else {
+      std::printf("%s distance: max %.6g, mean %.6g, rms %.6g", d.metric.c_str(), d.max, d.mean, d.rms);
+      if (metric == "vertex") std::printf(" (worst: vertex %zu)", d.worst_vertex);
+      std::printf("\n");
+      if (metric == "vertex" && !d.same_connectivity) std::printf("connectivity differs: %s\n", d.reason.c_str());
+    }
+    std::printf("%s (tolerance %g)\n", within ? "same" : "different", tolerance);
+  }
+  return within ? 0 : 1;
+}
+
+int command_info(const std::string& path, bool as_json) {
+  const ffd::Mesh mesh = ffd::read_mesh(path);
+  const ffd::MeshInfo info = ffd::mesh_info(mesh);
+  if (as_json) {
+    nlohmann::json j = ffd::to_json(info);
+    j["path"] = path;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::string kinds;
+  for (const auto& [degree, count] : info.faces_by_degree)
+    kinds += (kinds.empty() ? "" : ", ") + ffd::format_count(count) + " with " + std::to_string(degree) + " sides";
+  std::printf("%s\n", path.c_str());
+  std::printf("  vertices   %s (%s isolated)\n", ffd::format_count(info.vertices).c_str(),
+              ffd::format_count(info.isolated_vertices).c_str());
+  std::printf("  faces      %s (%s)\n", ffd::format_count(info.faces).c_str(), kinds.c_str());
+  std::printf("  edges      %s (%s on the boundary, %zu boundary loops)\n", ffd::format_count(info.edges).c_str(),
+              ffd::format_count(info.boundary_edges).c_str(), info.boundary_loops);
+  std::printf("  pieces     %zu connected, Euler characteristic %ld, %s\n", info.components, info.euler,
+              info.boundary_edges == 0 && info.faces ? "closed" : "open");
+  std::printf("  bbox       [%g, %g, %g] .. [%g, %g, %g], diagonal %g\n", info.min[0], info.min[1], info.min[2],
+              info.max[0], info.max[1], info.max[2], info.diagonal);
+  std::printf("  edges len  min %g, mean %g, max %g\n", info.min_edge, info.mean_edge, info.max_edge);
+  std::printf("  degenerate %s zero-area faces\n", ffd::format_count(info.degenerate_faces).c_str());
+  std::printf("  carries    %s%s%s\n", info.has_uvs ? "UVs " : "", info.has_normals ? "normals " : "",
+              info.has_colors ? "colours" : (info.has_uvs || info.has_normals ? "" : "positions only"));
+  return 0;
+}
+
+int command_validate(const std::string& path, bool resolved) {
+  const ffd::Script script = ffd::load_script(path);
+  if (resolved)
+    std::cout << script.resolved.dump(2) << "\n";
+  else
+    std::printf("%s: valid (%zu steps)\n", path.c_str(), script.resolved["steps"].size());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ffdtool: deform polygon meshes with lattice FFD scripts"};
+  app.set_version_flag("--version", std::string("ffdtool ") + FFD_VERSION + " (" + FFD_BUILD_FLAGS + ")");
+  app.require_subcommand(1);
+
+  ffd::RunOptions run;
+  CLI::App* run_cmd = app.add_subcommand("run", "Run a deformation script on a mesh");
+  run_cmd->add_option("mesh", run.mesh, "Input mesh (.obj .off .ply .stl)")->required();
+  run_cmd->add_option("script", run.script, "JSON deformation script")->required();
+  run_cmd->add_option("-o,--output", run.output, "Output mesh; its folder receives the script's saves")->required();
+  run_cmd->add_option("--stats", run.stats, "Write the stats report (JSON) here");
+  run_cmd->add_flag("--quiet", run.quiet, "No per-step lines on stderr");
+  run_cmd->add_option("--threads", run.threads, "Threads for evaluation (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+
+  std::string a, b, metric = "vertex";
+  double tolerance = 1e-9;
+  bool compare_json = false;
+  CLI::App* compare_cmd = app.add_subcommand("compare", "Compare two meshes (exit 0 same, 1 different)");
+  compare_cmd->add_option("a", a, "First mesh")->required();
+  compare_cmd->add_option("b", b, "Second mesh")->required();
+  compare_cmd->add_option("--tolerance", tolerance, "Largest distance still 'same', in mesh units")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  compare_cmd->add_option("--metric", metric, "vertex: vertex i against vertex i; hausdorff: surfaces")
+      ->check(CLI::IsMember({"vertex", "hausdorff"}))
+      ->capture_default_str();
+  compare_cmd->add_flag("--json", compare_json, "Print the result as JSON");
+
+  std::string info_path;
+  bool info_json = false;
+  CLI::App* info_cmd = app.add_subcommand("info", "Print counts and measures of a mesh");
+  info_cmd->add_option("mesh", info_path, "Mesh file")->required();
+  info_cmd->add_flag("--json", info_json, "Print as JSON");
+
+  std::string validate_path;
+  bool resolved = false;
+  CLI::App* validate_cmd = app.add_subcommand("validate", "Check a script without running it");
+  validate_cmd->add_option("script", validate_path, "JSON script")->required();
+  validate_cmd->add_flag("--resolved", resolved, "Print the script with every default filled in");
+
+  CLI::App* schema_cmd = app.add_subcommand("schema", "Print the script format's JSON Schema");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return fail(2, std::string(e.what()) + " (see ffdtool --help)");
+  }
+
+  try {
+    if (*run_cmd) {
+      ffd::run_script(run);
+      return 0;
+    }
+    if (*compare_cmd) return command_compare(a, b, tolerance, metric, compare_json);
+    if (*info_cmd) return command_info(info_path, info_json);
+    if (*validate_cmd) return command_validate(validate_path, resolved);
+    if (*schema_cmd) {
+      std::cout << ffd::script_schema().dump(2) << "\n";
+      return 0;
+    }
+  } catch (const ffd::InputError& e) {
+    return fail(2, e.what());
+  } catch (const ffd::RunError& e) {
+    return fail(3, e.what());
+  } catch (const std::bad_alloc&) {
+    return fail(3, "out of memory");
+  } catch (const std::exception& e) {
+    return fail(3, std::string("internal error: ") + e.what());
+  }
+  return 0;
+}

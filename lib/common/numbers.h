@@ -1,0 +1,27 @@
+// Exact text forms of numbers: shortest round-trip formatting and strict parsing.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace ffd {
+
+/// Appends the shortest decimal form of x that reads back to the same double
+/// (at most 17 significant digits), as std::to_chars does. Non-finite values are
+/// written as "nan"/"inf" so that a bug never hides as a plausible number.
+void append_number(std::string& out, double x);
+
+/// The shortest round-trip text of x.
+std::string format_number(double x);
+
+/// n with thousands separators: 1234567 -> "1,234,567", for human-readable summaries.
+std::string format_count(std::size_t n);
+
+/// Parses all of `text` as a finite double, correctly rounded (std::from_chars).
+/// Returns false for empty text, trailing characters, nan, inf or overflow.
+bool parse_finite(std::string_view text, double& value);
+
+/// Parses all of `text` as a (possibly negative) integer. False on any other text.
+bool parse_integer(std::string_view text, long long& value);
+
+}  // namespace ffd

@@ -1,0 +1,111 @@
+#include "mesh/mesh_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <sstream>
+
+#include "common/atomic_file.h"
+#include "common/errors.h"
+#include "mesh/build_mesh.h"
+#include "mesh/mesh_storage.h"
+#include "mesh/off_io.h"
+#include "mesh/ply_stl_io.h"
+
+namespace ffd {
+
+MeshFormat mesh_format(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".obj") return MeshFormat::Obj;
+  if (ext == ".off") return MeshFormat::Off;
+  if (ext == ".ply") return MeshFormat::Ply;
+  if (ext == ".stl") return MeshFormat::Stl;
+  throw InputError(path.string() + ": unknown mesh format '" + ext +
+                   "' (ffdtool reads and writes .obj, .off, .ply, .stl)");
+}
+
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(path + ": no such file");
+  std::ifstream is(path, std::ios::binary);
+  if (!is) throw InputError(path + ": cannot open for reading");
+  std::ostringstream ss;
+  ss << is.rdbuf();
+  return ss.str();
+}
+
+// Per-vertex normals for formats that hold one normal per vertex: each vertex's file
+// normal (from its first corner that has one) carried into deformed space; vertices
+// without a file normal get their current normal.
+Eigen::Matrix3Xd per_vertex_normals(const Mesh& mesh, const NormalTransform& transform) {
+  const MeshStorage& s = mesh.storage();
+  const SurfaceMesh& sm = s.sm;
+  Eigen::Matrix3Xd out = mesh.normals();
+  for (VertexIndex v : sm.vertices()) {
+    if (sm.is_isolated(v)) continue;
+    for (HalfedgeIndex h : CGAL::halfedges_around_target(sm.halfedge(v), sm)) {
+      if (sm.is_border(h) || s.vn[h] < 0) continue;
+      Eigen::Vector3d n = s.file_normals[s.vn[h]];
+      out.col(v.idx()) = transform ? transform(v.idx(), n) : n;
+      break;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Mesh read_mesh(const std::string& path) {
+  const MeshFormat format = mesh_format(path);
+  PolygonSoup soup;
+  switch (format) {
+    case MeshFormat::Obj:
+      soup = read_obj(read_text(path), path);
+      break;
+    case MeshFormat::Off:
+      soup = read_off(read_text(path), path);
+      break;
+    case MeshFormat::Ply:
+      read_text(path);  // same "no such file" message as the other formats
+      soup = read_ply(path);
+      break;
+    case MeshFormat::Stl:
+      read_text(path);
+      soup = read_stl(path);
+      break;
+  }
+  return build_mesh(soup, path);
+}
+
+void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh, const WriteOptions& options) {
+  Eigen::Matrix3Xd normals;
+  if (mesh.has_file_normals() && format != MeshFormat::Obj && format != MeshFormat::Stl)
+    normals = per_vertex_normals(mesh, options.transform_normal);
+  const Eigen::Matrix3Xd* vertex_normals = normals.size() ? &normals : nullptr;
+  switch (format) {
+    case MeshFormat::Obj:
+      write_obj(os, mesh, options.transform_normal);
+      break;
+    case MeshFormat::Off:
+      write_off(os, mesh, vertex_normals);
+      break;
+    case MeshFormat::Ply:
+      write_ply(os, mesh, vertex_normals);
+      break;
+    case MeshFormat::Stl:
+      write_stl(os, mesh);
+      break;
+  }
+}
+
+void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options) {
+  const MeshFormat format = mesh_format(path);
+  require_output_folder(path, "output");
+  write_file_atomically(path, [&](std::ostream& os) { write_mesh(os, format, mesh, options); });
+}
+
+}  // namespace ffd

@@ -1,0 +1,38 @@
+// Reading and writing meshes by file extension: .obj, .off, .ply, .stl.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <string>
+
+#include "mesh/mesh.h"
+#include "mesh/obj_io.h"
+
+namespace ffd {
+
+enum class MeshFormat { Obj, Off, Ply, Stl };
+
+/// The format named by `path`'s extension (case-insensitive).
+/// \throw InputError for any other extension.
+MeshFormat mesh_format(const std::filesystem::path& path);
+
+/// Reads a mesh file into a Mesh, checked as build_mesh describes.
+/// \throw InputError naming the file and the place for anything unreadable.
+Mesh read_mesh(const std::string& path);
+
+/// How a write deforms what the mesh carries besides positions.
+struct WriteOptions {
+  /// Carries a rest-space file normal at a vertex into deformed space (empty: as stored).
+  NormalTransform transform_normal;
+};
+
+/// Writes `mesh` in `format` to `os`.
+void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh,
+                const WriteOptions& options = {});
+
+/// Writes `mesh` to `path` (format from the extension) whole or not at all.
+/// \throw InputError if the folder is missing or the extension unknown, RunError on I/O.
+void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options = {});
+
+}  // namespace ffd

@@ -1,0 +1,232 @@
+#include "mesh/obj_io.h"
+
+
+#include "common/errors.h"
+#include "common/numbers.h"
+#include "mesh/mesh_storage.h"
+#include "mesh/text_lines.h"
+
+namespace ffd {
+namespace {
+
+// Resolves an OBJ index (1-based, or negative = relative to the end) against `count`
+// elements read so far; throws with the line number when it points nowhere.
+std::int64_t resolve_index(std::string_view token, std::size_t count, const std::string& file,
+                           std::size_t line, const char* what) {
+  long long raw;
+  if (!parse_integer(token, raw) || raw == 0)
+    throw InputError(place(file, line) + ": " + what + " index '" + std::string(token) +
+                     "' is not a non-zero integer");
+  const long long resolved = raw > 0 ? raw - 1 : static_cast<long long>(count) + raw;
+  if (resolved < 0 || resolved >= static_cast<long long>(count))
+    throw InputError(place(file, line) + ": " + what + " index " + std::string(token) +
+                     " is out of range (" + std::to_string(count) + " defined so far)");
+  return resolved;
+}
+
+std::string rest_of_line(std::string_view line, std::string_view keyword) {
+  std::size_t hash = line.find('#');
+  if (hash != std::string_view::npos) line = line.substr(0, hash);
+  std::size_t start = line.find(keyword) + keyword.size();
+  while (start < line.size() && (line[start] == ' ' || line[start] == '\t')) ++start;
+  std::size_t end = line.size();
+  while (end > start && (line[end - 1] == ' ' || line[end - 1] == '\t')) --end;
+  return std::string(line.substr(start, end - start));
+}
+
+}  // namespace
+
+PolygonSoup read_obj(std::string_view text, const std::string& file) {
+  PolygonSoup soup;
+  LineScanner lines(text);
+  std::string_view line;
+  std::vector<std::string_view> tokens;
+  ObjState state;
+  bool state_changed = false;
+  bool any_color = false;
+
+  while (lines.next(line)) {
+    const std::size_t n = lines.number();
+    split_tokens(line, tokens);
+    if (tokens.empty()) continue;
+    const std::string_view key = tokens[0];
+    if (key == "v") {
+      // v x y z | v x y z w | v x y z r g b
+      if (tokens.size() != 4 && tokens.size() != 5 && tokens.size() != 7)
+        throw InputError(place(file, n) + ": expected 'v x y z' (or with w, or with r g b), found " +
+                         std::to_string(tokens.size() - 1) + " values");
+      Eigen::Vector3d p;
+      for (int i = 0; i < 3; ++i) p[i] = number_or_throw(tokens[1 + i], file, n, "coordinate");
+      if (tokens.size() == 5 && number_or_throw(tokens[4], file, n, "weight") != 1.0)
+        throw InputError(place(file, n) + ": rational vertices (w != 1) are not supported");
+      Eigen::Vector3f c(0.8f, 0.8f, 0.8f);
+      if (tokens.size() == 7) {
+        for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(number_or_throw(tokens[4 + i], file, n, "colour"));
+        if (!any_color) {
+          soup.colors.assign(soup.positions.size(), Eigen::Vector3f(0.8f, 0.8f, 0.8f));
+          any_color = true;
+        }
+      }
+      soup.positions.push_back(p);
+      soup.vertex_lines.push_back(n);
+      if (any_color) soup.colors.push_back(c);
+    } else if (key == "vt") {
+      if (tokens.size() < 2 || tokens.size() > 4)
+        throw InputError(place(file, n) + ": expected 'vt u [v [w]]'");
+      Eigen::Vector2d t(number_or_throw(tokens[1], file, n, "texture coordinate"), 0.0);
+      if (tokens.size() >= 3) t[1] = number_or_throw(tokens[2], file, n, "texture coordinate");
+      if (tokens.size() == 4) number_or_throw(tokens[3], file, n, "texture coordinate");
+      soup.uvs.push_back(t);
+    } else if (key == "vn") {
+      if (tokens.size() != 4) throw InputError(place(file, n) + ": expected 'vn x y z'");
+      Eigen::Vector3d v;
+      for (int i = 0; i < 3; ++i) v[i] = number_or_throw(tokens[1 + i], file, n, "normal component");
+      soup.normals.push_back(v);
+    } else if (key == "f") {
+      if (tokens.size() < 4)
+        throw InputError(place(file, n) + ": a face needs at least 3 vertices, found " +
+                         std::to_string(tokens.size() - 1));
+      SoupFace face;
+      face.line = n;
+      bool any_uv = false, any_vn = false;
+      std::vector<std::int32_t> uvs, vns;
+      for (std::size_t i = 1; i < tokens.size(); ++i) {
+        std::string_view corner = tokens[i];
+        std::size_t s1 = corner.find('/');
+        std::string_view vtok = corner.substr(0, s1), ttok, ntok;
+        if (s1 != std::string_view::npos) {
+          std::size_t s2 = corner.find('/', s1 + 1);
+          ttok = corner.substr(s1 + 1, s2 == std::string_view::npos ? std::string_view::npos : s2 - s1 - 1);
+          if (s2 != std::string_view::npos) ntok = corner.substr(s2 + 1);
+        }
+        face.vertices.push_back(static_cast<std::uint32_t>(
+            resolve_index(vtok, soup.positions.size(), file, n, "vertex")));
+        std::int32_t t = -1, nn = -1;
+        if (!ttok.empty()) {
+          t = static_cast<std::int32_t>(resolve_index(ttok, soup.uvs.size(), file, n, "texture"));
+          any_uv = true;
+        }
+        if (!ntok.empty()) {
+          nn = static_cast<std::int32_t>(resolve_index(ntok, soup.normals.size(), file, n, "normal"));
+          any_vn = true;
+        }
+        uvs.push_back(t);
+        vns.push_back(nn);
+      }
+      if (any_uv) face.uvs = std::move(uvs);
+      if (any_vn) face.normals = std::move(vns);
+      if (state_changed) {
+        soup.groups.push_back(state);
+        state_changed = false;
+      }
+      face.group = soup.groups.empty() ? -1 : static_cast<std::int32_t>(soup.groups.size() - 1);
+      soup.faces.push_back(std::move(face));
+    } else if (key == "o" || key == "g" || key == "usemtl" || key == "s") {
+      std::string value = rest_of_line(line, key);
+      std::string* slot = key == "o" ? &state.object
+                          : key == "g" ? &state.group
+                          : key == "usemtl" ? &state.material
+                                            : &state.smoothing;
+      if (*slot != value) {
+        *slot = value;
+        state_changed = true;
+      }
+    } else if (key == "mtllib") {
+      soup.header.push_back("mtllib " + rest_of_line(line, key));
+    } else if (key == "l" || key == "p") {
+      throw InputError(place(file, n) + ": '" + std::string(key) +
+                       "' elements (lines, points) are not supported; ffdtool reads polygon faces");
+    } else {
+      throw InputError(place(file, n) + ": unsupported OBJ statement '" + std::string(key) + "'");
+    }
+  }
+  return soup;
+}
+
+namespace {
+
+void append_state_change(std::string& out, const ObjState& from, const ObjState& to) {
+  if (to.object != from.object) out += "o " + to.object + "\n";
+  if (to.group != from.group) out += "g " + to.group + "\n";
+  if (to.material != from.material) out += "usemtl " + to.material + "\n";
+  if (to.smoothing != from.smoothing) out += "s " + to.smoothing + "\n";
+}
+
+}  // namespace
+
+void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal) {
+  const MeshStorage& s = mesh.storage();
+  const SurfaceMesh& sm = s.sm;
+  std::string out;
+  out.reserve(64 * (mesh.num_vertices() + mesh.num_faces()));
+  for (const std::string& line : s.header) out += line + "\n";
+
+  const ConstVec3Array p = mesh.positions();
+  for (Eigen::Index i = 0; i < p.cols(); ++i) {
+    out += "v ";
+    append_number(out, p(0, i));
+    out += ' ';
+    append_number(out, p(1, i));
+    out += ' ';
+    append_number(out, p(2, i));
+    if (s.has_colors) {
+      const Eigen::Vector3f& c = s.color[VertexIndex(static_cast<std::uint32_t>(i))];
+      for (int k = 0; k < 3; ++k) {
+        out += ' ';
+        append_number(out, c[k]);
+      }
+    }
+    out += '\n';
+  }
+  for (const Eigen::Vector2d& t : s.uvs) {
+    out += "vt ";
+    append_number(out, t[0]);
+    out += ' ';
+    append_number(out, t[1]);
+    out += '\n';
+  }
+
+  // Normals: each corner's file normal carried to its vertex's deformed frame.
+  const CornerNormals normals = transformed_file_normals(mesh, transform_normal);
+  for (const Eigen::Vector3d& n : normals.table) {
+    out += "vn ";
+    append_number(out, n[0]);
+    out += ' ';
+    append_number(out, n[1]);
+    out += ' ';
+    append_number(out, n[2]);
+    out += '\n';
+  }
+  const std::vector<std::int64_t>& corner_vn = normals.corner;
+
+  ObjState current;
+  for (FaceIndex f : sm.faces()) {
+    const std::int32_t g = s.group[f];
+    const ObjState& next = g >= 0 ? s.groups[g] : ObjState{};
+    append_state_change(out, current, next);
+    current = next;
+    out += 'f';
+    for (HalfedgeIndex h : CGAL::halfedges_around_face(sm.halfedge(f), sm)) {
+      out += ' ';
+      out += std::to_string(sm.target(h).idx() + 1);
+      const std::int32_t t = s.uv[h];
+      const std::int64_t nn = corner_vn[h.idx()];
+      if (t >= 0 || nn >= 0) {
+        out += '/';
+        if (t >= 0) out += std::to_string(t + 1);
+        if (nn >= 0) {
+          out += '/';
+          out += std::to_string(nn + 1);
+        }
+      }
+    }
+    out += '\n';
+    if (out.size() > (1u << 22)) {
+      os.write(out.data(), static_cast<std::streamsize>(out.size()));
+      out.clear();
+    }
+  }
+  os.write(out.data(), static_cast<std::streamsize>(out.size()));
+}
+
+}  // namespace ffd

@@ -1,0 +1,203 @@
+#include "mesh/off_io.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/errors.h"
+#include "common/numbers.h"
+#include "mesh/mesh_storage.h"
+#include "mesh/text_lines.h"
+
+namespace ffd {
+namespace {
+
+struct OffHeader {
+  bool st = false, color = false, normal = false;
+};
+
+bool parse_keyword(std::string_view word, OffHeader& h) {
+  if (word.size() < 3 || word.substr(word.size() - 3) != "OFF") return false;
+  std::string_view prefix = word.substr(0, word.size() - 3);
+  if (prefix.substr(0, 2) == "ST") {
+    h.st = true;
+    prefix.remove_prefix(2);
+  }
+  if (!prefix.empty() && prefix[0] == 'C') {
+    h.color = true;
+    prefix.remove_prefix(1);
+  }
+  if (!prefix.empty() && prefix[0] == 'N') {
+    h.normal = true;
+    prefix.remove_prefix(1);
+  }
+  return prefix.empty();
+}
+
+// Reads a colour given as 3 or 4 components, either all integers 0..255 or floats 0..1.
+Eigen::Vector3f parse_color(const std::vector<std::string_view>& t, std::size_t first,
+                            std::size_t count, const std::string& file, std::size_t line) {
+  Eigen::Vector3f c;
+  bool integers = true;
+  for (std::size_t i = 0; i < count; ++i)
+    if (t[first + i].find_first_of(".eE") != std::string_view::npos) integers = false;
+  for (int i = 0; i < 3; ++i) {
+    double v = number_or_throw(t[first + i], file, line, "colour");
+    c[i] = static_cast<float>(integers ? v / 255.0 : v);
+  }
+  return c;
+}
+
+}  // namespace
+
+PolygonSoup read_off(std::string_view text, const std::string& file) {
+  PolygonSoup soup;
+  LineScanner lines(text);
+  std::string_view line;
+  std::vector<std::string_view> t;
+
+  // Header keyword, possibly followed by the counts on the same line.
+  OffHeader header;
+  std::vector<std::string_view> counts;
+  bool have_keyword = false;
+  while (counts.empty() && lines.next(line)) {
+    split_tokens(line, t);
+    if (t.empty()) continue;
+    std::size_t first = 0;
+    if (!have_keyword) {
+      if (t[0] == "OFF" || parse_keyword(t[0], header)) {
+        have_keyword = true;
+        first = 1;
+      } else if (t[0].find("OFF") != std::string_view::npos) {
+        throw InputError(place(file, lines.number()) + ": unsupported OFF variant '" +
+                         std::string(t[0]) + "' (read: OFF, COFF, NOFF, CNOFF, STOFF)");
+      }
+      // A file without the keyword starts directly with the counts (allowed by the format).
+    }
+    if (first < t.size() && t[first] == "BINARY")
+      throw InputError(place(file, lines.number()) + ": binary OFF is not supported");
+    counts.assign(t.begin() + first, t.end());
+  }
+  if (counts.size() != 3 && counts.size() != 2)
+    throw InputError(file + ":" + std::to_string(lines.number()) +
+                     ": expected the counts 'vertices faces edges'");
+  long long nv, nf;
+  if (!parse_integer(counts[0], nv) || !parse_integer(counts[1], nf) || nv < 0 || nf < 0)
+    throw InputError(place(file, lines.number()) + ": the vertex and face counts must be non-negative integers");
+
+  const std::size_t want = 3 + (header.normal ? 3 : 0);
+  soup.positions.reserve(nv);
+  if (header.normal) soup.normals.reserve(nv);
+  while (static_cast<long long>(soup.positions.size()) < nv) {
+    if (!lines.next(line))
+      throw InputError(file + ": the file ends after " + std::to_string(soup.positions.size()) +
+                       " of " + std::to_string(nv) + " vertices");
+    split_tokens(line, t);
+    if (t.empty()) continue;
+    const std::size_t n = lines.number();
+    std::size_t extra = t.size() - std::min(t.size(), want);
+    const std::size_t st = header.st ? 2 : 0;
+    const bool has_color = header.color && extra >= 3 + st;
+    if (t.size() < want + st || (header.color && !has_color) ||
+        (!header.color && extra != st) || (header.color && extra - st > 4))
+      throw InputError(place(file, n) + ": expected " + std::to_string(want + st) +
+                       (header.color ? " values and a colour" : " values") + " for vertex " +
+                       std::to_string(soup.positions.size()) + ", found " + std::to_string(t.size()));
+    Eigen::Vector3d p;
+    for (int i = 0; i < 3; ++i) p[i] = number_or_throw(t[i], file, n, "coordinate");
+    soup.positions.push_back(p);
+    soup.vertex_lines.push_back(n);
+    if (header.normal) {
+      Eigen::Vector3d v;
+      for (int i = 0; i < 3; ++i) v[i] = number_or_throw(t[3 + i], file, n, "normal component");
+      soup.normals.push_back(v);
+    }
+    if (has_color) soup.colors.push_back(parse_color(t, want, extra - st, file, n));
+    if (header.st) {
+      Eigen::Vector2d uv(number_or_throw(t[t.size() - 2], file, n, "texture coordinate"),
+                         number_or_throw(t[t.size() - 1], file, n, "texture coordinate"));
+      soup.uvs.push_back(uv);
+    }
+  }
+
+  soup.faces.reserve(nf);
+  while (static_cast<long long>(soup.faces.size()) < nf) {
+    if (!lines.next(line))
+      throw InputError(file + ": the file ends after " + std::to_string(soup.faces.size()) +
+                       " of " + std::to_string(nf) + " faces");
+    split_tokens(line, t);
+    if (t.empty()) continue;
+    const std::size_t n = lines.number();
+    long long k;
+    if (!parse_integer(t[0], k) || k < 3)
+      throw InputError(place(file, n) + ": a face starts with its vertex count (3 or more), found '" +
+                       std::string(t[0]) + "'");
+    if (static_cast<long long>(t.size()) < k + 1)
+      throw InputError(place(file, n) + ": the face lists " + std::to_string(t.size() - 1) + " of its " +
+                       std::to_string(k) + " vertices");
+    const std::size_t trailing = t.size() - 1 - k;  // optional face colour
+    if (trailing != 0 && trailing != 1 && trailing != 3 && trailing != 4)
+      throw InputError(place(file, n) + ": unexpected values after the face's vertex indices");
+    SoupFace face;
+    face.line = n;
+    for (long long i = 0; i < k; ++i) {
+      long long idx;
+      if (!parse_integer(t[1 + i], idx) || idx < 0 || idx >= nv)
+        throw InputError(place(file, n) + ": vertex index '" + std::string(t[1 + i]) +
+                         "' is out of range (0.." + std::to_string(nv - 1) + ")");
+      face.vertices.push_back(static_cast<std::uint32_t>(idx));
+    }
+    if (header.normal) face.normals.assign(face.vertices.begin(), face.vertices.end());
+    if (header.st) face.uvs.assign(face.vertices.begin(), face.vertices.end());
+    soup.faces.push_back(std::move(face));
+  }
+  while (lines.next(line)) {
+    split_tokens(line, t);
+    if (!t.empty())
+      throw InputError(place(file, lines.number()) + ": unexpected data after the last face");
+  }
+  return soup;
+}
+
+void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals) {
+  const MeshStorage& s = mesh.storage();
+  const SurfaceMesh& sm = s.sm;
+  std::string out;
+  out.reserve(48 * (mesh.num_vertices() + mesh.num_faces()) + 64);
+  if (s.has_colors) out += 'C';
+  if (normals) out += 'N';
+  out += "OFF\n";
+  out += std::to_string(mesh.num_vertices()) + " " + std::to_string(mesh.num_faces()) + " 0\n";
+  const ConstVec3Array p = mesh.positions();
+  for (Eigen::Index i = 0; i < p.cols(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      if (k) out += ' ';
+      append_number(out, p(k, i));
+    }
+    if (normals)
+      for (int k = 0; k < 3; ++k) {
+        out += ' ';
+        append_number(out, (*normals)(k, i));
+      }
+    if (s.has_colors) {
+      // Integers 0..255, the common COFF form, so readers never guess the scale.
+      const Eigen::Vector3f& c = s.color[VertexIndex(static_cast<std::uint32_t>(i))];
+      for (int k = 0; k < 3; ++k) {
+        out += ' ';
+        out += std::to_string(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+      }
+      out += " 255";
+    }
+    out += '\n';
+  }
+  for (FaceIndex f : sm.faces()) {
+    out += std::to_string(sm.degree(f));
+    for (VertexIndex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
+      out += ' ';
+      out += std::to_string(v.idx());
+    }
+    out += '\n';
+  }
+  os.write(out.data(), static_cast<std::streamsize>(out.size()));
+}
+
+}  // namespace ffd

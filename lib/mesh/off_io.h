@@ -1,0 +1,26 @@
+// Object File Format (OFF): a strict ASCII reader and an exact writer.
+//
+// Read: OFF, COFF, NOFF, CNOFF, STOFF and their combinations ([ST][C][N]OFF), comments,
+// counts on the header line or the next. Every malformed line is an error with its line
+// number (CGAL's reader only says that it failed). Binary OFF and the 4/n dimensions
+// are refused. Per-face colours are read and ignored.
+// Write: OFF, or COFF when the mesh carries vertex colours, or NOFF with deformed normals.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <string_view>
+
+#include "mesh/mesh.h"
+#include "mesh/soup.h"
+
+namespace ffd {
+
+/// Parses OFF text. \throw InputError "file:line: ..." on malformed or unsupported input.
+PolygonSoup read_off(std::string_view text, const std::string& file);
+
+/// Writes `mesh`'s current positions (and colours) as OFF with shortest round-trip
+/// numbers; `normals` (3 × n, may be null) adds per-vertex normals (NOFF).
+void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals);
+
+}  // namespace ffd

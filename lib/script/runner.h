@@ -1,0 +1,29 @@
+// Running a script on a mesh: the `ffdtool run` command without its CLI.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace ffd {
+
+struct RunOptions {
+  std::string mesh;    // input mesh file
+  std::string script;  // JSON script
+  std::string output;  // final mesh file; its folder is the output folder for `save`
+  std::string stats;   // stats JSON file, or empty
+  bool quiet = false;  // no per-step lines on stderr
+  int threads = 0;     // 0: OpenMP's default
+};
+
+/// Checks everything that can be checked first (script, output paths, input files), then
+/// reads the mesh, runs every step, and writes the output mesh, every saved mesh and the
+/// stats file, all renamed into place only after the last step succeeded. Returns the
+/// stats. \throw InputError for bad input (nothing is written), RunError for a failure
+/// while running (nothing is written).
+nlohmann::ordered_json run_script(const RunOptions& options);
+
+/// Peak resident memory of this process in bytes.
+std::size_t peak_memory_bytes();
+
+}  // namespace ffd

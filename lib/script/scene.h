@@ -1,0 +1,51 @@
+// Scene: what a script's steps act on (DESIGN.md "the data as it flows").
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/atomic_file.h"
+#include "mesh/mesh.h"
+#include "mesh/mesh_io.h"
+#include "script/selection.h"
+#include "warp/lattice.h"
+#include "warp/warp_stack.h"
+
+namespace ffd {
+
+struct Scene {
+  Mesh mesh;
+  WarpStack stack;
+  /// Lattices by name; owned by `stack`.
+  std::map<std::string, Lattice*> lattices;
+  /// Lattices frozen into the rest positions by a surface edit: name -> step pointer.
+  std::map<std::string, std::string> baked;
+
+  std::string script_path;
+  std::string script_folder;
+  std::string output_folder;
+  /// Files written by steps, renamed into place only when the whole run succeeds.
+  std::vector<StagedFile> staged;
+  std::vector<std::string> warnings;
+
+  /// Write options that carry file normals through the warp stack.
+  WriteOptions write_options() const;
+  /// Where a selection at `pointer` is, for its messages and relative files.
+  SelectionContext selection_context(const std::string& pointer) const {
+    return {script_path, script_folder, pointer};
+  }
+  /// The named lattice. \throw InputError if it was baked by a surface edit.
+  Lattice& lattice(const std::string& name, const std::string& pointer);
+};
+
+/// What one step reports: its JSON stats object (op-specific counts) and a summary line.
+struct StepContext {
+  std::string pointer;  // "/steps/3"
+  nlohmann::ordered_json stats = nlohmann::ordered_json::object();
+  std::string summary;
+};
+
+}  // namespace ffd

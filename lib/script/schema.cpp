@@ -1,0 +1,177 @@
+// The script's JSON Schema: the one table of every op and key, with its meaning, type and
+// default. `ffdtool schema` prints it, the validator checks scripts against it, and
+// `ffdtool validate --resolved` fills in its defaults. Adding an op: add its schema here
+// (under $defs and in steps.items.oneOf) and its runner to the op table (runner.cpp).
+#include "script/schema.h"
+
+namespace ffd {
+namespace {
+
+const char* kSchema = R"json({
+  "$schema": "https://json-schema.org/draft/2020-12/schema",
+  "$id": "https://ffdtool.invalid/script-v1.schema.json",
+  "title": "ffdtool script, version 1",
+  "description": "A sequence of deformation steps applied to one mesh. Lengths are in the mesh's units, angles in degrees, indices 0-based.",
+  "type": "object",
+  "required": ["version", "steps"],
+  "additionalProperties": false,
+  "properties": {
+    "version": {"const": 1, "description": "Script format version; must be 1."},
+    "description": {"type": "string", "description": "Free text, ignored."},
+    "steps": {
+      "type": "array",
+      "description": "Steps run in order.",
+      "items": {
+        "oneOf": [
+          {"$ref": "#/$defs/lattice"},
+          {"$ref": "#/$defs/move"},
+          {"$ref": "#/$defs/drag"},
+          {"$ref": "#/$defs/save"}
+        ]
+      }
+    }
+  },
+  "$defs": {
+    "vec3": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3,
+             "description": "Three numbers [x, y, z]."},
+    "index3": {"type": "array", "items": {"type": "integer"}, "minItems": 3, "maxItems": 3,
+               "description": "A lattice index [i, j, k]; i runs along the box's first axis."},
+    "selection_part": {
+      "oneOf": [
+        {"type": "object", "title": "indices", "required": ["indices"], "additionalProperties": false,
+         "properties": {"indices": {"type": "array", "minItems": 1,
+           "items": {"oneOf": [{"type": "integer", "minimum": 0}, {"$ref": "#/$defs/index3"}]},
+           "description": "Mesh vertex indices, or lattice indices [i, j, k]."}}},
+        {"type": "object", "title": "sphere", "required": ["sphere"], "additionalProperties": false,
+         "properties": {"sphere": {"type": "object", "required": ["center", "radius"], "additionalProperties": false,
+           "description": "Everything within `radius` of `center` (boundary included).",
+           "properties": {"center": {"$ref": "#/$defs/vec3"}, "radius": {"type": "number", "minimum": 0}}}}},
+        {"type": "object", "title": "box", "required": ["box"], "additionalProperties": false,
+         "properties": {"box": {"type": "object", "required": ["min", "max"], "additionalProperties": false,
+           "description": "Everything inside the axis-aligned box [min, max] (faces included).",
+           "properties": {"min": {"$ref": "#/$defs/vec3"}, "max": {"$ref": "#/$defs/vec3"}}}}},
+        {"type": "object", "title": "near", "required": ["near"], "additionalProperties": false,
+         "properties": {"near": {"$ref": "#/$defs/vec3", "description": "The single nearest element (ties: lowest index)."}}},
+        {"type": "object", "title": "file", "required": ["file"], "additionalProperties": false,
+         "properties": {"file": {"type": "string",
+           "description": "A text file of mesh vertex indices, one per line ('#' comments); relative to the script's folder."}}}
+      ]
+    },
+    "selection": {
+      "description": "Mesh vertices or lattice points; a list of selections is their union. Lattice points are chosen among the movable ones, by their current positions.",
+      "oneOf": [
+        {"$ref": "#/$defs/selection_part"},
+        {"type": "array", "minItems": 1, "items": {"$ref": "#/$defs/selection_part"}}
+      ]
+    },
+    "transform": {
+      "type": "object",
+      "additionalProperties": false,
+      "description": "A 9-dof affine map p -> center + R·S·(p - center) + translate.",
+      "properties": {
+        "translate": {"$ref": "#/$defs/vec3", "default": [0, 0, 0]},
+        "rotate": {"type": "object", "required": ["axis", "degrees"], "additionalProperties": false,
+                   "description": "Rotation by `degrees` about `axis` (right-hand rule).",
+                   "properties": {"axis": {"$ref": "#/$defs/vec3"}, "degrees": {"type": "number"}}},
+        "scale": {"oneOf": [{"type": "number"}, {"$ref": "#/$defs/vec3"}], "default": 1,
+                  "description": "Uniform factor, or one factor per axis."},
+        "center": {"$ref": "#/$defs/vec3",
+                   "description": "Fixed point of rotation and scale; defaults to the centroid of what is selected."}
+      }
+    },
+    "box": {
+      "description": "The lattice's parallelepiped.",
+      "oneOf": [
+        {"type": "object", "title": "min/max", "required": ["min", "max"], "additionalProperties": false,
+         "properties": {"min": {"$ref": "#/$defs/vec3"}, "max": {"$ref": "#/$defs/vec3"}}},
+        {"type": "object", "title": "origin/axes", "required": ["origin", "axes"], "additionalProperties": false,
+         "properties": {"origin": {"$ref": "#/$defs/vec3"},
+                        "axes": {"type": "array", "minItems": 3, "maxItems": 3, "items": {"$ref": "#/$defs/vec3"},
+                                 "description": "The three edge vectors from the origin corner."}}},
+        {"type": "object", "title": "fit", "required": ["fit"], "additionalProperties": false,
+         "properties": {
+           "fit": {"enum": ["aabb", "obb"], "description": "Fit an axis-aligned or oriented box to the current mesh."},
+           "padding": {"type": "number", "minimum": 0, "default": 0.05,
+                       "description": "Added on every side, as a fraction of the fitted box's largest extent."},
+           "select": {"$ref": "#/$defs/selection", "description": "Fit to these mesh vertices only."}}}
+      ]
+    },
+    "lattice": {
+      "type": "object",
+      "title": "lattice",
+      "description": "Creates a named lattice on top of the warp stack.",
+      "required": ["op", "name", "cells"],
+      "additionalProperties": false,
+      "properties": {
+        "op": {"const": "lattice"},
+        "name": {"type": "string", "minLength": 1, "description": "Name used by later steps."},
+        "basis": {"enum": ["bspline", "bernstein"], "default": "bspline",
+                  "description": "bspline: uniform B-spline with fixed influenced and phantom zones (identity outside the box, C^(degree-1) across it). bernstein: Sederberg & Parry's Bézier volume."},
+        "degree": {"type": "integer", "minimum": 1, "maximum": 3, "default": 3,
+                   "description": "B-spline degree (bspline only; a Bernstein lattice's degree per axis is its cell count)."},
+        "box": {"$ref": "#/$defs/box", "default": {"fit": "aabb", "padding": 0.05}},
+        "cells": {"type": "array", "items": {"type": "integer", "minimum": 1, "maximum": 1000}, "minItems": 3, "maxItems": 3,
+                  "description": "Cells per axis [l, m, n]: B-spline knot spans across the box, or Bernstein degrees."}
+      }
+    },
+    "move": {
+      "type": "object",
+      "title": "move",
+      "description": "Moves lattice control points: listed points by `by`/`to`, or a selection by a transform.",
+      "required": ["op", "lattice"],
+      "additionalProperties": false,
+      "oneOf": [{"required": ["points"]}, {"required": ["select", "transform"]}],
+      "properties": {
+        "op": {"const": "move"},
+        "lattice": {"type": "string", "description": "Name of a lattice created earlier."},
+        "points": {"type": "array", "minItems": 1, "items": {
+          "type": "object", "required": ["index"], "additionalProperties": false,
+          "oneOf": [{"required": ["by"]}, {"required": ["to"]}],
+          "properties": {
+            "index": {"$ref": "#/$defs/index3"},
+            "by": {"$ref": "#/$defs/vec3", "description": "Displacement added to the point's current position."},
+            "to": {"$ref": "#/$defs/vec3", "description": "The point's new position."}}}},
+        "select": {"$ref": "#/$defs/selection"},
+        "transform": {"$ref": "#/$defs/transform"}
+      }
+    },
+    "drag": {
+      "type": "object",
+      "title": "drag",
+      "description": "Direct manipulation (Hsu, Hughes & Kaufman 1992): object points go to targets by the least-norm change of the lattice's movable points.",
+      "required": ["op", "lattice", "points"],
+      "additionalProperties": false,
+      "properties": {
+        "op": {"const": "drag"},
+        "lattice": {"type": "string"},
+        "points": {"type": "array", "minItems": 1, "items": {
+          "type": "object", "required": ["to"], "additionalProperties": false,
+          "oneOf": [{"required": ["at"]}, {"required": ["vertex"]}],
+          "properties": {
+            "at": {"$ref": "#/$defs/vec3", "description": "An object point, where it is before this lattice deforms it."},
+            "vertex": {"type": "integer", "minimum": 0, "description": "A mesh vertex as the object point."},
+            "to": {"$ref": "#/$defs/vec3", "description": "Where the point must go."}}}}
+      }
+    },
+    "save": {
+      "type": "object",
+      "title": "save",
+      "description": "Writes the current mesh; the format follows the extension (.obj .off .ply .stl).",
+      "required": ["op", "path"],
+      "additionalProperties": false,
+      "properties": {
+        "op": {"const": "save"},
+        "path": {"type": "string", "minLength": 1, "description": "Relative to the output folder (the folder of -o)."}
+      }
+    }
+  }
+})json";
+
+}  // namespace
+
+const nlohmann::json& script_schema() {
+  static const nlohmann::json schema = nlohmann::json::parse(kSchema);
+  return schema;
+}
+
+}  // namespace ffd

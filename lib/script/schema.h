@@ -1,0 +1,11 @@
+// The script format's JSON Schema (draft 2020-12), the one table of ops and keys.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+namespace ffd {
+
+/// The schema, parsed once.
+const nlohmann::json& script_schema();
+
+}  // namespace ffd

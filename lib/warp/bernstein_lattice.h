@@ -1,0 +1,42 @@
+// Bernstein (Bézier) FFD, Sederberg & Parry 1986: one trivariate Bernstein polynomial
+// over the whole box.
+//
+// Promises:
+// - `cells` = (l, m, n) gives degrees l, m, n: (l+1)(m+1)(n+1) control points on the box's
+//   regular grid, indices 0..l, 0..m, 0..n. Every point may move.
+// - Points inside the box (faces included) deform; points outside are untouched. The warp
+//   is continuous (C0) across the box's faces only while no point on the faces has moved:
+//   moving a face point tears a mesh that leaves the box (boundary_continuity() says -1
+//   and the run warns).
+#pragma once
+
+#include "warp/lattice.h"
+
+namespace ffd {
+
+class BernsteinLattice : public Lattice {
+public:
+  /// Highest degree per axis: Bernstein weights stay exact to rounding, but a larger
+  /// Bézier lattice is better served by a B-spline one.
+  static constexpr int kMaxDegree = 24;
+
+  /// \throw InputError if a degree is below 1 or above kMaxDegree.
+  BernsteinLattice(const Parallelepiped& box, Index3 degrees);
+
+  Basis basis() const override { return Basis::Bernstein; }
+  Index3 degree() const override { return cells_; }
+  int boundary_continuity() const override { return boundary_moved() ? -1 : 0; }
+  bool movable(const Index3& ijk) const override { return in_range(ijk); }
+  void movable_span(int axis, int& lo, int& hi) const override;
+  Index3 pieces() const override { return {1, 1, 1}; }
+  void axis_weights(int axis, double u, int& first, double* w, double* dw) const override;
+
+  /// Bernstein polynomials B_i^n(u), i = 0..n, by de Casteljau's recurrence (stable).
+  static void bernstein(int n, double u, double* out);
+
+protected:
+  double node(int axis, int i) const override { return static_cast<double>(i) / cells_[axis]; }
+  void pieces_of_point(int axis, int i, int& lo, int& hi) const override { lo = hi = 0; }
+};
+
+}  // namespace ffd

@@ -1,0 +1,195 @@
+#include "warp/lattice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace ffd {
+namespace {
+
+constexpr int kMaxOrder = 32;  // Bernstein degree is capped below this by the script schema
+
+}  // namespace
+
+Lattice::Lattice(const Parallelepiped& box, Index3 cells) : box_(box), cells_(cells) {}
+
+void Lattice::init_points(Index3 first, Index3 count) {
+  first_ = first;
+  count_ = count;
+  displacement_.assign(static_cast<std::size_t>(count[0]) * count[1] * count[2],
+                       Eigen::Vector3d::Zero());
+  const Index3 n = pieces();
+  changed_piece_.assign(static_cast<std::size_t>(n[0]) * n[1] * n[2], 0);
+}
+
+bool Lattice::in_range(const Index3& ijk) const {
+  for (int a = 0; a < 3; ++a)
+    if (ijk[a] < first_[a] || ijk[a] > last_index(a)) return false;
+  return true;
+}
+
+std::size_t Lattice::flat(const Index3& ijk) const {
+  return (static_cast<std::size_t>(ijk[2] - first_[2]) * count_[1] + (ijk[1] - first_[1])) * count_[0] +
+         (ijk[0] - first_[0]);
+}
+
+Index3 Lattice::index(std::size_t f) const {
+  Index3 ijk;
+  ijk[0] = static_cast<int>(f % count_[0]) + first_[0];
+  f /= count_[0];
+  ijk[1] = static_cast<int>(f % count_[1]) + first_[1];
+  ijk[2] = static_cast<int>(f / count_[1]) + first_[2];
+  return ijk;
+}
+
+std::string Lattice::movable_range() const {
+  static const char* names = "ijk";
+  std::string s;
+  for (int a = 0; a < 3; ++a) {
+    int lo, hi;
+    movable_span(a, lo, hi);
+    if (a) s += ", ";
+    s += names[a];
+    if (lo > hi)
+      s += " has none";
+    else
+      s += " in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  }
+  return s;
+}
+
+Eigen::Vector3d Lattice::rest_point(const Index3& ijk) const {
+  return box_.to_world(Eigen::Vector3d(node(0, ijk[0]), node(1, ijk[1]), node(2, ijk[2])));
+}
+
+void Lattice::move_point(const Index3& ijk, const Eigen::Vector3d& position) {
+  if (!in_range(ijk) || !movable(ijk)) throw std::logic_error("move_point: point is not movable");
+  displacement_[flat(ijk)] = position - rest_point(ijk);
+  Index3 lo, hi;
+  for (int a = 0; a < 3; ++a) pieces_of_point(a, ijk[a], lo[a], hi[a]);
+  for (int k = lo[2]; k <= hi[2]; ++k)
+    for (int j = lo[1]; j <= hi[1]; ++j)
+      for (int i = lo[0]; i <= hi[0]; ++i) {
+        const std::size_t p = flat_piece({i, j, k});
+        changed_piece_[p] = 1;
+        piece_changed(p);
+      }
+  any_changed_ = true;
+}
+
+bool Lattice::boundary_moved() const {
+  for (std::size_t f = 0; f < displacement_.size(); ++f) {
+    if (displacement_[f].isZero(0.0)) continue;
+    const Index3 ijk = index(f);
+    for (int a = 0; a < 3; ++a) {
+      const double t = node(a, ijk[a]);
+      if (t <= 0 || t >= 1) return true;
+    }
+  }
+  return false;
+}
+
+void Lattice::locate(int axis, double u, int& piece, double& local) const {
+  const int n = pieces()[axis];
+  const double s = u * n;
+  piece = std::clamp(static_cast<int>(std::floor(s)), 0, n - 1);
+  local = s - piece;
+}
+
+void Lattice::movable_weights(const Eigen::Vector3d& x,
+                              std::vector<std::pair<std::size_t, double>>& out) const {
+  out.clear();
+  const Eigen::Vector3d u = box_.to_local(x);
+  if (!inside(u)) return;
+  int first[3];
+  double w[3][kMaxOrder], dw[3][kMaxOrder];
+  for (int a = 0; a < 3; ++a) axis_weights(a, u[a], first[a], w[a], dw[a]);
+  for (int c = 0; c < order(2); ++c)
+    for (int b = 0; b < order(1); ++b)
+      for (int a = 0; a < order(0); ++a) {
+        const Index3 ijk{first[0] + a, first[1] + b, first[2] + c};
+        const double weight = w[0][a] * w[1][b] * w[2][c];
+        if (weight != 0 && movable(ijk)) out.emplace_back(flat(ijk), weight);
+      }
+}
+
+Eigen::Vector3d Lattice::apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const {
+  if (jacobian) jacobian->setIdentity();
+  const Eigen::Vector3d u = box_.to_local(x);
+  if (!inside(u)) return x;
+  int first[3];
+  double w[3][kMaxOrder], dw[3][kMaxOrder];
+  for (int a = 0; a < 3; ++a) axis_weights(a, u[a], first[a], w[a], dw[a]);
+  // Factorized contraction: sum over k first, then j, then i.
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d g = Eigen::Matrix3d::Zero();  // columns: dD/du, dD/dv, dD/dw
+  for (int a = 0; a < order(0); ++a) {
+    Eigen::Vector3d sa = Eigen::Vector3d::Zero(), sa_v = sa, sa_w = sa;
+    for (int b = 0; b < order(1); ++b) {
+      Eigen::Vector3d sb = Eigen::Vector3d::Zero(), sb_w = sb;
+      for (int c = 0; c < order(2); ++c) {
+        const Eigen::Vector3d& p = displacement_[flat({first[0] + a, first[1] + b, first[2] + c})];
+        sb += w[2][c] * p;
+        sb_w += dw[2][c] * p;
+      }
+      sa += w[1][b] * sb;
+      sa_v += dw[1][b] * sb;
+      sa_w += w[1][b] * sb_w;
+    }
+    d += w[0][a] * sa;
+    g.col(0) += dw[0][a] * sa;
+    g.col(1) += w[0][a] * sa_v;
+    g.col(2) += w[0][a] * sa_w;
+  }
+  if (jacobian) *jacobian += g * box_.inverse_axes();
+  return x + d;
+}
+
+void Lattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                    const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
+                    const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                    Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const {
+  std::size_t folded = 0, evaluated = 0;
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size());
+#pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
+  for (std::ptrdiff_t t = 0; t < n; ++t) {
+    const std::uint32_t v = ids[t];
+    const Eigen::Vector3d x = in_pos.col(v);
+    if (!inside(box_.to_local(x))) {  // untouched, bit for bit
+      out_pos.col(v) = x;
+      out_nrm.col(v) = in_nrm.col(v);
+      continue;
+    }
+    Eigen::Matrix3d J;
+    out_pos.col(v) = apply(x, &J);
+    const Eigen::Vector3d m = cofactor_times(J, in_nrm.col(v));
+    const double len = m.norm();
+    out_nrm.col(v) = len > 0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
+    if (J.determinant() <= 0) ++folded;
+    ++evaluated;
+  }
+  counts.folded += folded;
+  counts.evaluated += evaluated;
+}
+
+void Lattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                             std::vector<std::uint32_t>& ids) const {
+  if (!any_changed_) return;
+  const Eigen::Matrix3d& inv = box_.inverse_axes();
+  const Eigen::Vector3d& o = box_.origin();
+  for (Eigen::Index v = 0; v < in_pos.cols(); ++v) {
+    const Eigen::Vector3d u = inv * (in_pos.col(v) - o);
+    if (!inside(u)) continue;
+    Index3 p;
+    double local;
+    for (int a = 0; a < 3; ++a) locate(a, u[a], p[a], local);
+    if (changed_piece_[flat_piece(p)]) ids.push_back(static_cast<std::uint32_t>(v));
+  }
+}
+
+void Lattice::clear_changes() {
+  std::fill(changed_piece_.begin(), changed_piece_.end(), 0);
+  any_changed_ = false;
+}
+
+}  // namespace ffd

@@ -1,0 +1,46 @@
+#include "warp/parallelepiped.h"
+
+#include <cmath>
+
+#include "common/errors.h"
+
+namespace ffd {
+
+Parallelepiped::Parallelepiped(const Eigen::Vector3d& origin, const Eigen::Matrix3d& axes)
+    : origin_(origin), axes_(axes) {
+  const Eigen::Vector3d lengths = axes.colwise().norm();
+  const double volume = std::abs(axes.determinant());
+  if (!(lengths.minCoeff() > 0) || !(volume > 1e-12 * lengths.prod()))
+    throw InputError("the box's axes are degenerate (zero length or not linearly independent)");
+  inverse_ = axes.inverse();
+}
+
+Parallelepiped Parallelepiped::from_min_max(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
+  const Eigen::Vector3d size = max - min;
+  if (!(size.minCoeff() > 0)) throw InputError("the box's max must exceed its min on every axis");
+  return Parallelepiped(min, size.asDiagonal());
+}
+
+Parallelepiped fit_aabb(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                        const std::vector<std::uint32_t>& ids, double padding) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  const auto grow = [&](Eigen::Index i) {
+    lo = lo.cwiseMin(points.col(i));
+    hi = hi.cwiseMax(points.col(i));
+  };
+  if (ids.empty())
+    for (Eigen::Index i = 0; i < points.cols(); ++i) grow(i);
+  else
+    for (std::uint32_t i : ids) grow(i);
+  if (!(lo.array() <= hi.array()).all()) throw InputError("cannot fit a box to an empty set of points");
+  const double largest = (hi - lo).maxCoeff();
+  // A single point or a degenerate set gets a unit-free minimum so the box is solid.
+  const double pad = largest > 0 ? padding * largest : (padding > 0 ? padding : 1e-6);
+  const double min_extent = largest > 0 ? 1e-6 * largest : 1e-6;
+  Eigen::Vector3d size = (hi - lo).array() + 2 * pad;
+  size = size.cwiseMax(min_extent);
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  return Parallelepiped::from_min_max(centre - 0.5 * size, centre + 0.5 * size);
+}
+
+}  // namespace ffd

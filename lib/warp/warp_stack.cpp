@@ -1,0 +1,127 @@
+#include "warp/warp_stack.h"
+
+#include "mesh/file_normals.h"
+
+namespace ffd {
+
+std::string WarpStack::input_name(std::size_t k, const char* what) const {
+  return "stack:" + std::to_string(k) + ":" + what;
+}
+
+void WarpStack::push(Mesh& mesh, std::string name, std::unique_ptr<Warp> warp) {
+  const std::size_t k = warps_.size();
+  if (k > 0) {
+    mesh.vec3_attribute(input_name(k, "pos")) = mesh.positions();
+    mesh.vec3_attribute(input_name(k, "nrm")) = mesh.normals();
+  }
+  names_.push_back(std::move(name));
+  warps_.push_back(std::move(warp));
+}
+
+Warp* WarpStack::find(const std::string& name) const {
+  for (std::size_t k = 0; k < names_.size(); ++k)
+    if (names_[k] == name) return warps_[k].get();
+  return nullptr;
+}
+
+std::size_t WarpStack::index_of(const std::string& name) const {
+  for (std::size_t k = 0; k < names_.size(); ++k)
+    if (names_[k] == name) return k;
+  return names_.size();
+}
+
+Eigen::Vector3d WarpStack::input_position(const Mesh& mesh, std::size_t k, std::uint32_t v) const {
+  if (k == 0) return mesh.rest_positions().col(v);
+  // const access: the attribute exists for every k >= 1 while the warp does.
+  return const_cast<Mesh&>(mesh).vec3_attribute(input_name(k, "pos")).col(v);
+}
+
+WarpStack::Update WarpStack::update(Mesh& mesh, const std::string& name) {
+  const std::size_t k = index_of(name);
+  return k < warps_.size() ? update(mesh, k) : Update{};
+}
+
+WarpStack::Update WarpStack::update(Mesh& mesh, std::size_t k) {
+  Update result;
+  Warp& changed = *warps_[k];
+  if (!changed.has_changes()) return result;
+  changed.prepare();
+  const auto input_pos = [&](std::size_t j) -> Eigen::Map<Eigen::Matrix3Xd> {
+    return j == 0 ? mesh.rest_positions() : mesh.vec3_attribute(input_name(j, "pos"));
+  };
+  const auto input_nrm = [&](std::size_t j) -> Eigen::Map<Eigen::Matrix3Xd> {
+    return j == 0 ? mesh.rest_normals() : mesh.vec3_attribute(input_name(j, "nrm"));
+  };
+  std::vector<std::uint32_t> ids;
+  changed.changed_points(input_pos(k), ids);
+  WarpCounts counts;
+  for (std::size_t j = k; j < warps_.size(); ++j) {
+    const bool top = j + 1 == warps_.size();
+    warps_[j]->prepare();
+    warps_[j]->apply(input_pos(j), input_nrm(j), ids, top ? mesh.positions() : input_pos(j + 1),
+                     top ? mesh.normals() : input_nrm(j + 1), counts);
+  }
+  changed.clear_changes();
+  auto moved = mesh.flag_attribute("moved");
+  for (std::uint32_t v : ids) moved[v] = 1;
+  result.moved = ids.size();
+  result.folded = counts.folded;
+  return result;
+}
+
+Eigen::Vector3d WarpStack::evaluate(const Eigen::Vector3d& rest, Eigen::Matrix3d* jacobian) const {
+  Eigen::Vector3d x = rest;
+  if (jacobian) jacobian->setIdentity();
+  for (const auto& warp : warps_) {
+    Eigen::Matrix3d J;
+    x = warp->apply(x, jacobian ? &J : nullptr);
+    if (jacobian) *jacobian = J * *jacobian;
+  }
+  return x;
+}
+
+void WarpStack::evaluate_vertex(Mesh& mesh, std::uint32_t v) const {
+  Eigen::Vector3d x = mesh.rest_positions().col(v);
+  Eigen::Vector3d n = mesh.rest_normals().col(v);
+  for (std::size_t k = 0; k < warps_.size(); ++k) {
+    if (k > 0) {
+      mesh.vec3_attribute(input_name(k, "pos")).col(v) = x;
+      mesh.vec3_attribute(input_name(k, "nrm")).col(v) = n;
+    }
+    Eigen::Matrix3d J;
+    const Eigen::Vector3d u = warps_[k]->apply(x, &J);
+    if (u != x || !J.isIdentity(0.0)) {
+      const Eigen::Vector3d m = cofactor_times(J, n);
+      const double len = m.norm();
+      n = len > 0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
+    }
+    x = u;
+  }
+  mesh.positions().col(v) = x;
+  mesh.normals().col(v) = n;
+}
+
+Eigen::Vector3d WarpStack::transform_normal(const Mesh& mesh, std::uint32_t v, const Eigen::Vector3d& n) const {
+  if (warps_.empty()) return n;
+  Eigen::Matrix3d J;
+  evaluate(mesh.rest_positions().col(v), &J);
+  if (J.isIdentity(0.0)) return n;
+  const Eigen::Vector3d m = cofactor_times(J, n);
+  const double len = m.norm();
+  return len > 0 ? Eigen::Vector3d(m / len) : n;
+}
+
+std::vector<std::string> WarpStack::bake(Mesh& mesh) {
+  bake_file_normals(mesh, [&](std::uint32_t v, const Eigen::Vector3d& n) { return transform_normal(mesh, v, n); });
+  mesh.bake();
+  for (std::size_t k = 1; k < warps_.size(); ++k) {
+    mesh.remove_vec3_attribute(input_name(k, "pos"));
+    mesh.remove_vec3_attribute(input_name(k, "nrm"));
+  }
+  std::vector<std::string> dropped = std::move(names_);
+  names_.clear();
+  warps_.clear();
+  return dropped;
+}
+
+}  // namespace ffd
