@@ -23,7 +23,8 @@ MeshStorage::MeshStorage(const MeshStorage& other)
       header(other.header),
       has_uvs(other.has_uvs),
       has_file_normals(other.has_file_normals),
-      has_colors(other.has_colors) {
+      has_colors(other.has_colors),
+      topology_version(other.topology_version) {
   bind();
 }
 
@@ -133,6 +134,9 @@ std::vector<std::vector<std::uint32_t>> Mesh::faces() const {
 bool Mesh::has_uvs() const { return storage_->has_uvs; }
 bool Mesh::has_file_normals() const { return storage_->has_file_normals; }
 bool Mesh::has_colors() const { return storage_->has_colors; }
+
+std::uint64_t Mesh::topology_version() const { return storage_->topology_version; }
+void Mesh::mark_topology_changed() { ++storage_->topology_version; }
 
 void Mesh::bake() {
   rest_positions() = positions();

@@ -76,6 +76,11 @@ public:
   bool has_file_normals() const;
   bool has_colors() const;
 
+  /// Counts connectivity changes: ops that split, join or re-triangulate faces call
+  /// mark_topology_changed(), so state built on vertex indices can tell it is stale.
+  std::uint64_t topology_version() const;
+  void mark_topology_changed();
+
   /// Sets rest positions and rest normals to the current ones (a bake of the warps).
   void bake();
   /// Recomputes rest normals from rest positions, and copies them to current normals

@@ -54,6 +54,7 @@ struct MeshStorage {
   bool has_uvs = false;
   bool has_file_normals = false;
   bool has_colors = false;
+  std::uint64_t topology_version = 0;
 
   /// Binds the property maps by name (after construction or a copy).
   void bind();

@@ -10,6 +10,8 @@
 //   and the run warns).
 #pragma once
 
+#include <Eigen/StdVector>
+
 #include "warp/lattice.h"
 
 namespace ffd {
@@ -34,9 +36,23 @@ public:
   /// Bernstein polynomials B_i^n(u), i = 0..n, by de Casteljau's recurrence (stable).
   static void bernstein(int n, double u, double* out);
 
+  /// Batch evaluation: per vertex, Bernstein weights per axis and a factorized tensor
+  /// contraction with the three coordinates in one SIMD register.
+  void apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+             const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm, const std::vector<std::uint32_t>& ids,
+             Eigen::Ref<Eigen::Matrix3Xd> out_pos, Eigen::Ref<Eigen::Matrix3Xd> out_nrm,
+             WarpCounts& counts) const override;
+  using Lattice::apply;
+
 protected:
   double node(int axis, int i) const override { return static_cast<double>(i) / cells_[axis]; }
   void pieces_of_point(int axis, int i, int& lo, int& hi) const override { lo = hi = 0; }
+  void piece_changed(std::size_t) override { packed_stale_ = true; }
+
+private:
+  // Displacements as [i][j][k][x, y, z, 0], refreshed lazily after moves.
+  mutable std::vector<double, Eigen::aligned_allocator<double>> packed_;
+  mutable bool packed_stale_ = true;
 };
 
 }  // namespace ffd

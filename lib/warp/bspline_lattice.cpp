@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "common/errors.h"
 
@@ -83,6 +84,7 @@ void BSplineLattice::piece_changed(std::size_t piece) {
 void BSplineLattice::compute_block(std::size_t piece) const {
   const int n = degree_ + 1;
   const std::size_t size = static_cast<std::size_t>(3) * n * n * n;
+  const std::size_t stored = static_cast<std::size_t>(4) * n * n * n;
   const Index3 cell = {static_cast<int>(piece % cells_[0]),
                        static_cast<int>((piece / cells_[0]) % cells_[1]),
                        static_cast<int>(piece / (static_cast<std::size_t>(cells_[0]) * cells_[1]))};
@@ -108,8 +110,8 @@ void BSplineLattice::compute_block(std::size_t piece) const {
       slot = free_blocks_.back();
       free_blocks_.pop_back();
     } else {
-      slot = static_cast<std::int32_t>(blocks_.size() / size);
-      blocks_.resize(blocks_.size() + size);
+      slot = static_cast<std::int32_t>(blocks_.size() / stored);
+      blocks_.resize(blocks_.size() + stored);
     }
   }
   // Three mode products with the power matrix: C[c][p][q][r] = Σ M(p,i) M(q,j) M(r,k) g[c][i][j][k].
@@ -131,15 +133,16 @@ void BSplineLattice::compute_block(std::size_t piece) const {
           for (int j = 0; j < n; ++j) acc += M(q, j) * t1[((c * n + i) * n + j) * n + r];
           t2[((c * n + i) * n + q) * n + r] = acc;
         }
-  double* out = blocks_.data() + static_cast<std::size_t>(slot) * size;
+  double* out = blocks_.data() + static_cast<std::size_t>(slot) * stored;
   for (int c = 0; c < 3; ++c)
     for (int p = 0; p < n; ++p)
       for (int q = 0; q < n; ++q)
         for (int r = 0; r < n; ++r) {
           double acc = 0;
           for (int i = 0; i < n; ++i) acc += M(p, i) * t2[((c * n + i) * n + q) * n + r];
-          out[((c * n + p) * n + q) * n + r] = acc;
+          out[4 * ((p * n + q) * n + r) + c] = acc;  // [p][q][r][xyz_]
         }
+  for (std::size_t k = 3; k < stored; k += 4) out[k] = 0;
 }
 
 void BSplineLattice::prepare() { refresh_blocks(); }
@@ -154,56 +157,39 @@ void BSplineLattice::refresh_blocks() const {
 
 namespace {
 
-constexpr int kChunk = 8;  // vertices evaluated together; the inner loops vectorize over them
+// Four doubles (x, y, z, unused) in one register: the three coordinates of a polynomial
+// coefficient are evaluated together (GCC vector extension: AVX with -march=native,
+// two SSE2 halves otherwise).
+typedef double v4d __attribute__((vector_size(32)));
 
-// Horner's rule over one cell's power coefficients for up to kChunk points:
-// value V = Σ_pqr C_pqr σ^p τ^q ρ^r and, with kGrad, its three partial derivatives.
+// Horner's rule over one cell's power coefficients C[p][q][r] (Gain & Dodgson eq. 1 in
+// power form) at local coordinates (s, t, r): the displacement V and, with kGrad, its
+// partial derivatives (eq. 5-7 in power form) by the derivative-carrying Horner scheme.
 template <int D, bool kGrad>
-inline void horner_chunk(const double* C, const double* s, const double* t, const double* r,
-                         double (&V)[3][kChunk], double (&S)[3][kChunk], double (&T)[3][kChunk],
-                         double (&R)[3][kChunk]) {
+inline void horner(const v4d* C, double s, double t, double r, v4d& V, v4d& Vs, v4d& Vt, v4d& Vr) {
   constexpr int N = D + 1;
-  for (int c = 0; c < 3; ++c) {
-    double v[kChunk] = {}, vs[kChunk] = {}, vt[kChunk] = {}, vr[kChunk] = {};
-    for (int p = D; p >= 0; --p) {
-      double b[kChunk] = {}, bt[kChunk] = {}, br[kChunk] = {};
-      for (int q = D; q >= 0; --q) {
-        const double* cpq = C + ((c * N + p) * N + q) * N;
-        double a[kChunk], ar[kChunk];
-        for (int w = 0; w < kChunk; ++w) {
-          a[w] = cpq[D];
-          ar[w] = 0;
-        }
-        for (int k = D - 1; k >= 0; --k)
-          for (int w = 0; w < kChunk; ++w) {
-            if (kGrad) ar[w] = ar[w] * r[w] + a[w];
-            a[w] = a[w] * r[w] + cpq[k];
-          }
-        for (int w = 0; w < kChunk; ++w) {
-          if (kGrad) {
-            bt[w] = bt[w] * t[w] + b[w];
-            br[w] = br[w] * t[w] + ar[w];
-          }
-          b[w] = b[w] * t[w] + a[w];
-        }
+  V = Vs = Vt = Vr = v4d{0, 0, 0, 0};
+  for (int p = D; p >= 0; --p) {
+    v4d b{0, 0, 0, 0}, bt{0, 0, 0, 0}, br{0, 0, 0, 0};
+    for (int q = D; q >= 0; --q) {
+      const v4d* c = C + (p * N + q) * N;
+      v4d a = c[D], ar{0, 0, 0, 0};
+      for (int k = D - 1; k >= 0; --k) {
+        if (kGrad) ar = ar * r + a;
+        a = a * r + c[k];
       }
-      for (int w = 0; w < kChunk; ++w) {
-        if (kGrad) {
-          vs[w] = vs[w] * s[w] + v[w];
-          vt[w] = vt[w] * s[w] + bt[w];
-          vr[w] = vr[w] * s[w] + br[w];
-        }
-        v[w] = v[w] * s[w] + b[w];
-      }
-    }
-    for (int w = 0; w < kChunk; ++w) {
-      V[c][w] = v[w];
       if (kGrad) {
-        S[c][w] = vs[w];
-        T[c][w] = vt[w];
-        R[c][w] = vr[w];
+        bt = bt * t + b;
+        br = br * t + ar;
       }
+      b = b * t + a;
     }
+    if (kGrad) {
+      Vs = Vs * s + V;
+      Vt = Vt * s + bt;
+      Vr = Vr * s + br;
+    }
+    V = V * s + b;
   }
 }
 
@@ -215,84 +201,55 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                               const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
                               Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const {
   constexpr int N = D + 1;
-  constexpr std::size_t kBlock = 3 * N * N * N;
+  constexpr std::size_t kBlock = 4 * N * N * N;
   refresh_blocks();
-  const std::size_t num_cells = block_of_.size();
   const Eigen::Matrix3d& inv = box_.inverse_axes();
   const Eigen::Vector3d& origin = box_.origin();
-
-  // Bin the points by cell (counting sort, stable: deterministic order within a cell).
-  // Points outside the box or in cells without displacement are copied unchanged.
-  std::vector<std::int32_t> cell_of(ids.size());
-  std::vector<double> local(3 * ids.size());
-  std::vector<std::uint32_t> count(num_cells + 1, 0);
+  const Eigen::Matrix3d K = local_to_world_jac_;
+  const v4d* blocks = reinterpret_cast<const v4d*>(blocks_.data());
+  std::size_t folded = 0, evaluated = 0;
   const std::ptrdiff_t n_ids = static_cast<std::ptrdiff_t>(ids.size());
-#pragma omp parallel for schedule(static)
+  // Vertices in id order (streaming memory access); each looks up its cell's block.
+#pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
   for (std::ptrdiff_t t = 0; t < n_ids; ++t) {
     const std::uint32_t v = ids[t];
-    const Eigen::Vector3d u = inv * (in_pos.col(v) - origin);
-    std::int32_t cell = -1;
+    const Eigen::Vector3d x = in_pos.col(v);
+    const Eigen::Vector3d u = inv * (x - origin);
+    std::int32_t block = -1;
+    double local[3];
     if (inside(u)) {
-      Index3 p;
-      for (int a = 0; a < 3; ++a) locate(a, u[a], p[a], local[3 * t + a]);
-      const std::size_t f = flat_piece(p);
-      if (block_of_[f] >= 0) cell = static_cast<std::int32_t>(f);
+      int cell[3];
+      for (int a = 0; a < 3; ++a) {  // Lattice::locate, inlined for the B-spline's cells
+        const double sa = u[a] * cells_[a];
+        cell[a] = std::clamp(static_cast<int>(std::floor(sa)), 0, cells_[a] - 1);
+        local[a] = sa - cell[a];
+      }
+      block = block_of_[(static_cast<std::size_t>(cell[2]) * cells_[1] + cell[1]) * cells_[0] + cell[0]];
     }
-    cell_of[t] = cell;
-    if (cell < 0) {
-      out_pos.col(v) = in_pos.col(v);
+    if (block < 0) {  // outside, or no moved point reaches this cell: identity, bit for bit
+      out_pos.col(v) = x;
       if (out_nrm) out_nrm->col(v) = in_nrm->col(v);
+      continue;
     }
-  }
-  for (std::ptrdiff_t t = 0; t < n_ids; ++t)
-    if (cell_of[t] >= 0) ++count[cell_of[t] + 1];
-  std::vector<std::size_t> active;  // cells with points, in cell order
-  for (std::size_t c = 0; c < num_cells; ++c)
-    if (count[c + 1]) active.push_back(c);
-  for (std::size_t c = 0; c < num_cells; ++c) count[c + 1] += count[c];
-  std::vector<std::uint32_t> order(count[num_cells]);
-  {
-    std::vector<std::uint32_t> next(count.begin(), count.end() - 1);
-    for (std::ptrdiff_t t = 0; t < n_ids; ++t)
-      if (cell_of[t] >= 0) order[next[cell_of[t]]++] = static_cast<std::uint32_t>(t);
-  }
-
-  const Eigen::Matrix3d K = local_to_world_jac_;
-  std::size_t folded = 0;
-  const std::ptrdiff_t n_active = static_cast<std::ptrdiff_t>(active.size());
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : folded)
-  for (std::ptrdiff_t ai = 0; ai < n_active; ++ai) {
-    const std::size_t cell = active[ai];
-    const double* C = blocks_.data() + static_cast<std::size_t>(block_of_[cell]) * kBlock;
-    for (std::uint32_t start = count[cell]; start < count[cell + 1]; start += kChunk) {
-      const int m = static_cast<int>(std::min<std::uint32_t>(kChunk, count[cell + 1] - start));
-      double s[kChunk] = {}, t[kChunk] = {}, r[kChunk] = {};
-      for (int w = 0; w < m; ++w) {
-        const std::size_t k = order[start + w];
-        s[w] = local[3 * k];
-        t[w] = local[3 * k + 1];
-        r[w] = local[3 * k + 2];
-      }
-      double V[3][kChunk], S[3][kChunk], T[3][kChunk], R[3][kChunk];
-      if (out_nrm)
-        horner_chunk<D, true>(C, s, t, r, V, S, T, R);
-      else
-        horner_chunk<D, false>(C, s, t, r, V, S, T, R);
-      for (int w = 0; w < m; ++w) {
-        const std::uint32_t v = ids[order[start + w]];
-        out_pos.col(v) = in_pos.col(v) + Eigen::Vector3d(V[0][w], V[1][w], V[2][w]);
-        if (!out_nrm) continue;
-        Eigen::Matrix3d G;  // dD/dσ, dD/dτ, dD/dρ as columns
-        G << S[0][w], T[0][w], R[0][w], S[1][w], T[1][w], R[1][w], S[2][w], T[2][w], R[2][w];
-        const Eigen::Matrix3d J = Eigen::Matrix3d::Identity() + G * K;
-        const Eigen::Vector3d nn = cofactor_times(J, in_nrm->col(v));
-        const double len = nn.norm();
-        out_nrm->col(v) = len > 0 ? Eigen::Vector3d(nn / len) : Eigen::Vector3d::Zero();
-        if (J.determinant() <= 0) ++folded;
-      }
+    ++evaluated;
+    const v4d* C = blocks + static_cast<std::size_t>(block) * (kBlock / 4);
+    v4d V, Vs, Vt, Vr;
+    if (!out_nrm) {
+      horner<D, false>(C, local[0], local[1], local[2], V, Vs, Vt, Vr);
+      out_pos.col(v) = x + Eigen::Vector3d(V[0], V[1], V[2]);
+      continue;
     }
+    horner<D, true>(C, local[0], local[1], local[2], V, Vs, Vt, Vr);
+    out_pos.col(v) = x + Eigen::Vector3d(V[0], V[1], V[2]);
+    Eigen::Matrix3d G;  // columns: dD/dσ, dD/dτ, dD/dρ
+    G << Vs[0], Vt[0], Vr[0], Vs[1], Vt[1], Vr[1], Vs[2], Vt[2], Vr[2];
+    const Eigen::Matrix3d J = Eigen::Matrix3d::Identity() + G * K;
+    const Eigen::Vector3d m = cofactor_times(J, in_nrm->col(v));
+    const double len = m.norm();
+    out_nrm->col(v) = len > 0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
+    if (J.determinant() <= 0) ++folded;
   }
-  counts.evaluated += order.size();
+  counts.evaluated += evaluated;
   counts.folded += folded;
 }
 

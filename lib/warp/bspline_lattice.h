@@ -11,9 +11,9 @@
 //   degree-1 derivatives on the box's faces: identity outside (bit for bit), C^(degree-1)
 //   across the faces. A cubic lattice needs l >= 4 for any movable point.
 // - Evaluation is per cell in power form: each altered cell keeps the polynomial
-//   coefficients of its displacement, evaluated by Horner's rule over a batch of the
-//   vertices in that cell (value and Jacobian together); cells without moved points are
-//   skipped (the paper's bit index).
+//   coefficients of its displacement, evaluated per vertex by Horner's rule with the
+//   three coordinates in one SIMD register (value and Jacobian together); cells without
+//   moved points are skipped (the paper's bit index).
 #pragma once
 
 #include "warp/lattice.h"
@@ -80,7 +80,8 @@ private:
   Eigen::Matrix3d local_to_world_jac_;   // dσ/dx: diag(cells) · inverse axes
   // Power-form cache, refreshed lazily (prepare(), or the first evaluation after a move).
   mutable std::vector<std::int32_t> block_of_;  // per cell: block number, -1 = no displacement
-  mutable std::vector<double> blocks_;          // per block: [coordinate][p][q][r] coefficients
+  // per block: [p][q][r][x, y, z, 0] power coefficients, 32-byte aligned for AVX loads
+  mutable std::vector<double, Eigen::aligned_allocator<double>> blocks_;
   mutable std::vector<std::int32_t> free_blocks_;
   mutable std::vector<std::uint8_t> stale_;     // cells whose block must be recomputed
   mutable std::vector<std::size_t> stale_list_;

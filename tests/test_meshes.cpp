@@ -1,0 +1,131 @@
+#include "test_meshes.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "mesh/build_mesh.h"
+#include "mesh/mesh_io.h"
+
+namespace ffd::test {
+namespace fs = std::filesystem;
+
+PolygonSoup grid_soup(int n, const std::function<double(double, double)>& height, bool quads) {
+  PolygonSoup soup;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = static_cast<double>(i) / n, y = static_cast<double>(j) / n;
+      soup.positions.emplace_back(x, y, height ? height(x, y) : 0.0);
+    }
+  const auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if (quads) {
+        soup.faces.push_back({{a, b, c, d}});
+      } else if ((i + j) % 2 == 0) {
+        soup.faces.push_back({{a, b, c}});
+        soup.faces.push_back({{a, c, d}});
+      } else {
+        soup.faces.push_back({{a, b, d}});
+        soup.faces.push_back({{b, c, d}});
+      }
+    }
+  return soup;
+}
+
+Mesh grid_mesh(int n, const std::function<double(double, double)>& height, bool quads) {
+  return build_mesh(grid_soup(n, height, quads), "grid");
+}
+
+Mesh sphere_mesh(int levels) {
+  PolygonSoup soup;
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  const double raw[12][3] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                             {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (const auto& p : raw) soup.positions.push_back(Eigen::Vector3d(p[0], p[1], p[2]).normalized());
+  std::vector<std::array<std::uint32_t, 3>> tris = {
+      {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+      {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+    const auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+      auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      soup.positions.push_back((soup.positions[a] + soup.positions[b]).normalized());
+      const auto id = static_cast<std::uint32_t>(soup.positions.size() - 1);
+      mid[key] = id;
+      return id;
+    };
+    std::vector<std::array<std::uint32_t, 3>> next;
+    for (const auto& f : tris) {
+      const std::uint32_t ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
+      next.push_back({f[0], ab, ca});
+      next.push_back({f[1], bc, ab});
+      next.push_back({f[2], ca, bc});
+      next.push_back({ab, bc, ca});
+    }
+    tris = next;
+  }
+  for (const auto& f : tris) soup.faces.push_back({{f[0], f[1], f[2]}});
+  return build_mesh(soup, "sphere");
+}
+
+std::string data(const std::string& name) { return std::string(FFD_TEST_DATA) + "/" + name; }
+
+Mesh bunny() { return read_mesh(data("bunny.obj")); }
+
+namespace {
+struct TempRoot {
+  fs::path root;
+  TempRoot() {
+    root = fs::temp_directory_path() / ("ffd_tests_" + std::to_string(::getpid()));
+    fs::create_directories(root);
+  }
+  ~TempRoot() {
+    std::error_code ec;
+    fs::remove_all(root, ec);
+  }
+};
+TempRoot& temp_root() {
+  static TempRoot root;
+  return root;
+}
+}  // namespace
+
+std::string temp_folder(const std::string& name) {
+  const fs::path p = temp_root().root / name;
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p.string();
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream is(path, std::ios::binary);
+  std::stringstream ss;
+  ss << is.rdbuf();
+  return ss.str();
+}
+
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream os(path, std::ios::binary);
+  os << text;
+}
+
+int run_tool(const std::string& args, std::string* out, std::string* err) {
+  const std::string dir = temp_folder("run_tool");
+  const std::string out_path = dir + "/stdout", err_path = dir + "/stderr";
+  const std::string command = std::string(FFD_TOOL) + " " + args + " >" + out_path + " 2>" + err_path;
+  const int status = std::system(command.c_str());
+  if (out) *out = read_file(out_path);
+  if (err) *err = read_file(err_path);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace ffd::test

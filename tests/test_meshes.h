@@ -1,0 +1,37 @@
+// Small synthetic meshes and helpers shared by the tests.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "mesh/mesh.h"
+#include "mesh/soup.h"
+
+namespace ffd::test {
+
+/// A (n+1)×(n+1) vertex grid over [0,1]² at height z = height(x, y), each square split
+/// into two triangles along alternating diagonals (or kept as quads).
+PolygonSoup grid_soup(int n, const std::function<double(double, double)>& height = nullptr,
+                      bool quads = false);
+Mesh grid_mesh(int n, const std::function<double(double, double)>& height = nullptr, bool quads = false);
+
+/// A unit icosphere (radius 1 at the origin) subdivided `levels` times.
+Mesh sphere_mesh(int levels);
+
+/// The bundled Stanford bunny (test_data/bunny.obj).
+Mesh bunny();
+
+/// Path of a file in test_data/.
+std::string data(const std::string& name);
+
+/// A fresh empty folder under the system temp folder, removed when the test binary exits.
+std::string temp_folder(const std::string& name);
+
+/// Runs `ffdtool args...` through the shell; returns the exit code, captures stdout and stderr.
+int run_tool(const std::string& args, std::string* out = nullptr, std::string* err = nullptr);
+
+/// Reads a whole file ("" if missing).
+std::string read_file(const std::string& path);
+void write_file(const std::string& path, const std::string& text);
+
+}  // namespace ffd::test
