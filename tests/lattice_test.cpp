@@ -1,0 +1,339 @@
+// Lattice FFD: bases, identity, Jacobians, continuity at the box, batch = single point.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include <omp.h>
+
+#include "warp/bernstein_lattice.h"
+#include "warp/bspline_lattice.h"
+
+namespace ffd {
+namespace {
+
+Parallelepiped skewed_box() {
+  Eigen::Matrix3d axes;
+  axes << 2.0, 0.3, 0.1,  //
+      0.2, 1.5, -0.2,     //
+      -0.1, 0.25, 1.2;
+  return Parallelepiped(Eigen::Vector3d(-0.7, 0.4, 1.1), axes);
+}
+
+struct Case {
+  std::string name;
+  std::function<std::unique_ptr<Lattice>(const Parallelepiped&)> make;
+};
+
+std::vector<Case> all_lattices() {
+  return {
+      {"bspline1", [](const Parallelepiped& b) { return std::make_unique<BSplineLattice>(b, Index3{3, 4, 2}, 1); }},
+      {"bspline2", [](const Parallelepiped& b) { return std::make_unique<BSplineLattice>(b, Index3{4, 3, 5}, 2); }},
+      {"bspline3", [](const Parallelepiped& b) { return std::make_unique<BSplineLattice>(b, Index3{5, 6, 4}, 3); }},
+      {"bernstein", [](const Parallelepiped& b) { return std::make_unique<BernsteinLattice>(b, Index3{3, 5, 2}); }},
+      {"bernstein_high", [](const Parallelepiped& b) { return std::make_unique<BernsteinLattice>(b, Index3{9, 1, 12}); }},
+  };
+}
+
+// Moves every movable point by a random offset of up to `size`.
+void perturb(Lattice& lattice, double size, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  for (std::size_t f = 0; f < lattice.num_points(); ++f) {
+    const Index3 ijk = lattice.index(f);
+    if (lattice.movable(ijk))
+      lattice.move_point(ijk, lattice.point(ijk) + size * Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)));
+  }
+}
+
+// Unit vectors (materialized first: a Random expression re-evaluates per access).
+Eigen::Matrix3Xd random_unit(Eigen::Index n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  Eigen::Matrix3Xd m(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) m.col(i) = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+  return m;
+}
+
+Eigen::Matrix3Xd random_inside(const Parallelepiped& box, int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  Eigen::Matrix3Xd p(3, n);
+  for (int i = 0; i < n; ++i) p.col(i) = box.to_world(Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)));
+  return p;
+}
+
+TEST(Lattice, PartitionOfUnityAndLinearPrecisionPerAxis) {
+  for (const Case& c : all_lattices()) {
+    auto lattice = c.make(skewed_box());
+    for (int axis = 0; axis < 3; ++axis)
+      for (int s = 0; s <= 200; ++s) {
+        const double u = s / 200.0;
+        int first;
+        double w[32], dw[32];
+        lattice->axis_weights(axis, u, first, w, dw);
+        double sum = 0, moment = 0, dsum = 0, dmoment = 0;
+        for (int i = 0; i < lattice->order(axis); ++i) {
+          Index3 ijk{0, 0, 0};
+          ijk[axis] = first + i;
+          // Node position along this axis, read back from the rest point in box coordinates.
+          const double node = lattice->box().to_local(lattice->rest_point(ijk))[axis];
+          sum += w[i];
+          moment += w[i] * node;
+          dsum += dw[i];
+          dmoment += dw[i] * node;
+        }
+        EXPECT_NEAR(sum, 1.0, 1e-12) << c.name << " axis " << axis << " u " << u;
+        EXPECT_NEAR(moment, u, 1e-12) << c.name << " axis " << axis << " u " << u;
+        EXPECT_NEAR(dsum, 0.0, 1e-10) << c.name;
+        EXPECT_NEAR(dmoment, 1.0, 1e-10) << c.name;
+      }
+  }
+}
+
+TEST(Lattice, RestLatticeIsIdentityInFullForm) {
+  // Eq. 1 with the rest control points (not the displacement form): sum_ijk B B B P° = x.
+  for (const Case& c : all_lattices()) {
+    auto lattice = c.make(skewed_box());
+    const Eigen::Matrix3Xd pts = random_inside(lattice->box(), 200, 3);
+    for (int v = 0; v < pts.cols(); ++v) {
+      const Eigen::Vector3d u = lattice->box().to_local(pts.col(v));
+      int first[3];
+      double w[3][32], dw[3][32];
+      for (int a = 0; a < 3; ++a) lattice->axis_weights(a, u[a], first[a], w[a], dw[a]);
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (int i = 0; i < lattice->order(0); ++i)
+        for (int j = 0; j < lattice->order(1); ++j)
+          for (int k = 0; k < lattice->order(2); ++k)
+            x += w[0][i] * w[1][j] * w[2][k] * lattice->rest_point({first[0] + i, first[1] + j, first[2] + k});
+      EXPECT_LT((x - pts.col(v)).norm(), 1e-12 * lattice->box().extents().norm()) << c.name;
+    }
+  }
+}
+
+TEST(Lattice, UnmovedLatticeIsExactIdentity) {
+  for (const Case& c : all_lattices()) {
+    auto lattice = c.make(skewed_box());
+    const Eigen::Matrix3Xd pts = random_inside(lattice->box(), 500, 4);
+    const Eigen::Matrix3Xd nrm = random_unit(pts.cols(), 40);
+    for (int v = 0; v < pts.cols(); ++v) {
+      Eigen::Matrix3d J;
+      EXPECT_EQ(lattice->apply(pts.col(v), &J), Eigen::Vector3d(pts.col(v))) << c.name;
+      EXPECT_TRUE(J.isIdentity(0.0)) << c.name;
+    }
+    std::vector<std::uint32_t> ids(pts.cols());
+    std::iota(ids.begin(), ids.end(), 0u);
+    Eigen::Matrix3Xd out_pos(3, pts.cols()), out_nrm(3, pts.cols());
+    WarpCounts counts;
+    lattice->apply(pts, nrm, ids, out_pos, out_nrm, counts);
+    EXPECT_EQ(out_pos, pts) << c.name;
+    EXPECT_LT((out_nrm - nrm).cwiseAbs().maxCoeff(), 1e-15) << c.name;
+  }
+}
+
+TEST(Lattice, JacobianMatchesCentralDifferences) {
+  for (const Case& c : all_lattices()) {
+    auto lattice = c.make(skewed_box());
+    perturb(*lattice, 0.15, 5);
+    // Stay away from cell boundaries of the degree-1 spline (its derivative jumps there).
+    const Eigen::Matrix3Xd pts = random_inside(lattice->box(), 200, 6);
+    const double h = 1e-6;
+    for (int v = 0; v < pts.cols(); ++v) {
+      Eigen::Matrix3d J;
+      lattice->apply(pts.col(v), &J);
+      Eigen::Matrix3d fd;
+      for (int a = 0; a < 3; ++a) {
+        const Eigen::Vector3d e = Eigen::Vector3d::Unit(a) * h;
+        fd.col(a) = (lattice->apply(pts.col(v) + e, nullptr) - lattice->apply(pts.col(v) - e, nullptr)) / (2 * h);
+      }
+      if (c.name == "bspline1" && (J - fd).norm() > 1e-3) continue;  // straddles a knot plane
+      EXPECT_LT((J - fd).norm(), 1e-6 * std::max(1.0, J.norm())) << c.name << " point " << v;
+    }
+  }
+}
+
+TEST(Lattice, BatchEvaluationMatchesSinglePoint) {
+  // The B-spline batch path evaluates per-cell power coefficients by Horner's rule; the
+  // single-point path contracts basis weights: two independent formulas.
+  for (const Case& c : all_lattices()) {
+    auto lattice = c.make(skewed_box());
+    perturb(*lattice, 0.1, 8);
+    lattice->prepare();
+    Eigen::Matrix3Xd pts = random_inside(lattice->box(), 1000, 9);
+    pts.col(0) = lattice->box().origin() - Eigen::Vector3d(0.3, 0, 0);  // outside
+    const Eigen::Matrix3Xd nrm = random_unit(pts.cols(), 40);
+    std::vector<std::uint32_t> ids(pts.cols());
+    std::iota(ids.begin(), ids.end(), 0u);
+    Eigen::Matrix3Xd out_pos(3, pts.cols()), out_nrm(3, pts.cols());
+    WarpCounts counts;
+    lattice->apply(pts, nrm, ids, out_pos, out_nrm, counts);
+    for (int v = 0; v < pts.cols(); ++v) {
+      Eigen::Matrix3d J;
+      const Eigen::Vector3d x = lattice->apply(pts.col(v), &J);
+      EXPECT_LT((x - out_pos.col(v)).norm(), 1e-12) << c.name << " " << v;
+      const Eigen::Vector3d n = cofactor_times(J, nrm.col(v)).normalized();
+      EXPECT_LT((n - out_nrm.col(v)).norm(), 1e-11) << c.name << " " << v;
+    }
+    EXPECT_EQ(out_pos.col(0), pts.col(0));
+    EXPECT_EQ(out_nrm.col(0), nrm.col(0));
+  }
+}
+
+TEST(Lattice, BatchIsBitIdenticalForAnyThreadCount) {
+  BSplineLattice lattice(skewed_box(), {6, 6, 6}, 3);
+  perturb(lattice, 0.1, 10);
+  const Eigen::Matrix3Xd pts = random_inside(lattice.box(), 20000, 11);
+  const Eigen::Matrix3Xd nrm = random_unit(pts.cols(), 40);
+  std::vector<std::uint32_t> ids(pts.cols());
+  std::iota(ids.begin(), ids.end(), 0u);
+  Eigen::Matrix3Xd p1(3, pts.cols()), n1(3, pts.cols()), p2(3, pts.cols()), n2(3, pts.cols());
+  WarpCounts counts;
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  lattice.apply(pts, nrm, ids, p1, n1, counts);
+  omp_set_num_threads(2);
+  lattice.apply(pts, nrm, ids, p2, n2, counts);
+  omp_set_num_threads(threads);
+  EXPECT_EQ(p1, p2);
+  EXPECT_EQ(n1, n2);
+}
+
+TEST(BSplineLattice, MovableZonesFollowTheDegree) {
+  const Parallelepiped box = skewed_box();
+  int lo, hi;
+  BSplineLattice cubic(box, {6, 7, 4}, 3);
+  cubic.movable_span(0, lo, hi);
+  EXPECT_EQ(lo, 2);
+  EXPECT_EQ(hi, 4);
+  cubic.movable_span(2, lo, hi);
+  EXPECT_EQ(lo, 2);
+  EXPECT_EQ(hi, 2);
+  EXPECT_EQ(cubic.first_index(0), -1);
+  EXPECT_EQ(cubic.last_index(0), 7);
+  BSplineLattice quadratic(box, {5, 5, 5}, 2);
+  quadratic.movable_span(0, lo, hi);
+  EXPECT_EQ(lo, 1);
+  EXPECT_EQ(hi, 3);
+  EXPECT_EQ(quadratic.first_index(0), -1);
+  EXPECT_EQ(quadratic.last_index(0), 5);
+  BSplineLattice linear(box, {5, 5, 5}, 1);
+  linear.movable_span(0, lo, hi);
+  EXPECT_EQ(lo, 1);
+  EXPECT_EQ(hi, 4);
+  EXPECT_THROW(cubic.move_point({1, 3, 2}, Eigen::Vector3d::Zero()), std::logic_error);
+  EXPECT_NO_THROW(cubic.move_point({2, 3, 2}, Eigen::Vector3d::Zero()));
+  EXPECT_EQ(cubic.movable_range(), "i in [2, 4], j in [2, 5], k in [2, 2]");
+}
+
+TEST(BSplineLattice, OutsideTheBoxIsUntouchedBitForBit) {
+  BSplineLattice lattice(skewed_box(), {6, 6, 6}, 3);
+  perturb(lattice, 0.3, 12);
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> uniform(-1, 2);
+  int outside = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const Eigen::Vector3d u(uniform(rng), uniform(rng), uniform(rng));
+    if (Lattice::inside(u)) continue;
+    ++outside;
+    const Eigen::Vector3d x = lattice.box().to_world(u);
+    EXPECT_EQ(lattice.apply(x, nullptr), x);
+  }
+  EXPECT_GT(outside, 1000);
+}
+
+// Displacement D = F(x) - x at distance eps inside a box face, along the face's inward
+// normal direction in box coordinates.
+double displacement_near_face(const Lattice& lattice, int axis, bool high, double eps, const Eigen::Vector2d& at) {
+  Eigen::Vector3d u;
+  int k = 0;
+  for (int a = 0; a < 3; ++a) u[a] = a == axis ? (high ? 1 - eps : eps) : at[k++];
+  const Eigen::Vector3d x = lattice.box().to_world(u);
+  return (lattice.apply(x, nullptr) - x).norm();
+}
+
+TEST(BSplineLattice, ContinuityAcrossTheBoxFacesMatchesTheDegree) {
+  // C^(d-1) with the identity outside means D and its first d-1 derivatives vanish on the
+  // faces, so |D| = O(eps^d) at distance eps inside. Measure the order numerically.
+  for (int degree = 1; degree <= 3; ++degree) {
+    BSplineLattice lattice(skewed_box(), {6, 6, 6}, degree);
+    perturb(lattice, 0.3, 14 + degree);
+    for (int axis = 0; axis < 3; ++axis)
+      for (bool high : {false, true}) {
+        const Eigen::Vector2d at(0.37, 0.61);
+        const double d1 = displacement_near_face(lattice, axis, high, 1e-2, at);
+        const double d2 = displacement_near_face(lattice, axis, high, 1e-3, at);
+        ASSERT_GT(d1, 0);
+        const double order = std::log10(d1 / d2);
+        EXPECT_NEAR(order, degree, 0.05) << "degree " << degree << " axis " << axis << " high " << high;
+        EXPECT_LT(displacement_near_face(lattice, axis, high, 0.0, at), 1e-15 * lattice.box().extents().norm());
+      }
+  }
+}
+
+TEST(BernsteinLattice, MatchesSederbergParryDirectFormula) {
+  // X_ffd = sum_i C(l,i)(1-s)^(l-i) s^i [sum_j C(m,j) ... [sum_k C(n,k) ... P_ijk]],
+  // evaluated with pow and binomials, P_ijk = X0 + (i/l) S + (j/m) T + (k/n) U + moves.
+  const Parallelepiped box = skewed_box();
+  const Index3 deg{4, 3, 5};
+  BernsteinLattice lattice(box, deg);
+  perturb(lattice, 0.2, 20);
+  lattice.prepare();
+  const auto binomial = [](int n, int k) { return std::tgamma(n + 1.0) / (std::tgamma(k + 1.0) * std::tgamma(n - k + 1.0)); };
+  const Eigen::Matrix3Xd pts = random_inside(box, 300, 21);
+  std::vector<std::uint32_t> ids(pts.cols());
+  std::iota(ids.begin(), ids.end(), 0u);
+  Eigen::Matrix3Xd out(3, pts.cols()), nrm = Eigen::Matrix3Xd::Zero(3, pts.cols()), out_n(3, pts.cols());
+  WarpCounts counts;
+  lattice.apply(pts, nrm, ids, out, out_n, counts);
+  for (int v = 0; v < pts.cols(); ++v) {
+    const Eigen::Vector3d stu = box.to_local(pts.col(v));
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int i = 0; i <= deg[0]; ++i)
+      for (int j = 0; j <= deg[1]; ++j)
+        for (int k = 0; k <= deg[2]; ++k) {
+          const double b = binomial(deg[0], i) * std::pow(1 - stu[0], deg[0] - i) * std::pow(stu[0], i) *
+                           binomial(deg[1], j) * std::pow(1 - stu[1], deg[1] - j) * std::pow(stu[1], j) *
+                           binomial(deg[2], k) * std::pow(1 - stu[2], deg[2] - k) * std::pow(stu[2], k);
+          const Eigen::Vector3d P = box.origin() + box.axes().col(0) * (double(i) / deg[0]) +
+                                    box.axes().col(1) * (double(j) / deg[1]) +
+                                    box.axes().col(2) * (double(k) / deg[2]) + lattice.displacement(lattice.flat({i, j, k}));
+          x += b * P;
+        }
+    EXPECT_LT((x - out.col(v)).norm(), 1e-12 * box.extents().norm()) << v;
+    EXPECT_LT((x - lattice.apply(pts.col(v), nullptr)).norm(), 1e-12 * box.extents().norm()) << v;
+  }
+}
+
+TEST(BernsteinLattice, ContinuousAtTheBoxOnlyWhileFacePointsStay) {
+  const Parallelepiped box = skewed_box();
+  BernsteinLattice lattice(box, {3, 3, 3});
+  lattice.move_point({1, 2, 1}, lattice.point({1, 2, 1}) + Eigen::Vector3d(0.2, -0.1, 0.3));
+  EXPECT_EQ(lattice.boundary_continuity(), 0);
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_LT(displacement_near_face(lattice, axis, true, 0.0, Eigen::Vector2d(0.3, 0.6)), 1e-15);
+  lattice.move_point({3, 1, 1}, lattice.point({3, 1, 1}) + Eigen::Vector3d(0.2, 0, 0));
+  EXPECT_EQ(lattice.boundary_continuity(), -1);
+  EXPECT_GT(displacement_near_face(lattice, 0, true, 0.0, Eigen::Vector2d(0.3, 0.4)), 1e-3);
+}
+
+TEST(Lattice, TangentsAndNormalsStayOrthogonal) {
+  // Covariant normal n' = cof(J) n and contravariant tangent t' = J t (eq. 2-3):
+  // n'·t' = det(J) n·t = 0 for every tangent t of the rest surface.
+  BSplineLattice lattice(skewed_box(), {5, 5, 5}, 3);
+  perturb(lattice, 0.2, 30);
+  const Eigen::Matrix3Xd pts = random_inside(lattice.box(), 200, 31);
+  std::mt19937 rng(32);
+  std::normal_distribution<double> g;
+  for (int v = 0; v < pts.cols(); ++v) {
+    Eigen::Matrix3d J;
+    lattice.apply(pts.col(v), &J);
+    const Eigen::Vector3d n = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+    const Eigen::Vector3d t = n.cross(Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized();
+    const Eigen::Vector3d n2 = cofactor_times(J, n), t2 = transform_tangent(J, t);
+    EXPECT_LT(std::abs(n2.dot(t2)), 1e-12 * n2.norm() * t2.norm());
+  }
+}
+
+}  // namespace
+}  // namespace ffd
