@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Quick start: installs what is missing, builds, deforms the bundled bunny with the
+# bundled demo script, writes out/ and prints the stats summary.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+scripts/build.sh --target ffdtool
+mkdir -p out
+build/apps/ffdtool/ffdtool run test_data/bunny.obj test_data/demo.json \
+  -o out/bunny_deformed.obj --stats out/stats.json
+echo "demo: wrote out/bunny_deformed.obj, out/bunny_stretched.obj and out/stats.json"
