@@ -30,7 +30,10 @@ bool parse_finite(std::string_view text, double& value) {
   if (text.empty()) return false;
   const char* first = text.data();
   const char* last = text.data() + text.size();
-  if (*first == '+') ++first;  // from_chars rejects a leading '+', OBJ writers emit it
+  if (*first == '+') {  // from_chars rejects a leading '+', OBJ writers emit it
+    ++first;
+    if (first != last && *first == '-') return false;  // "+-1": from_chars would take the '-'
+  }
   auto [ptr, ec] = std::from_chars(first, last, value, std::chars_format::general);
   return ec == std::errc() && ptr == last && std::isfinite(value);
 }
@@ -39,7 +42,10 @@ bool parse_integer(std::string_view text, long long& value) {
   if (text.empty()) return false;
   const char* first = text.data();
   const char* last = text.data() + text.size();
-  if (*first == '+') ++first;
+  if (*first == '+') {
+    ++first;
+    if (first != last && *first == '-') return false;
+  }
   auto [ptr, ec] = std::from_chars(first, last, value);
   return ec == std::errc() && ptr == last;
 }

@@ -6,8 +6,9 @@
 
 namespace ffd {
 
-/// Appends the shortest decimal form of x that reads back to the same double
-/// (at most 17 significant digits), as std::to_chars does. Non-finite values are
+/// Appends the shortest decimal form of x that reads back to the same double, as
+/// std::to_chars does (at most 17 significant digits, except that a whole number below
+/// 1e23 may be written out as its exact integer). Non-finite values are
 /// written as "nan"/"inf" so that a bug never hides as a plausible number.
 void append_number(std::string& out, double x);
 

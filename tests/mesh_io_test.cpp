@@ -1,0 +1,835 @@
+// Mesh I/O: exact round trips (OBJ, OFF), agreement with independent readers
+// (tinyobjloader, CGAL), strict rejection of bad input with file and line, attributes
+// (UVs, file normals) through a deformation.
+#include <gtest/gtest.h>
+
+#include <CGAL/IO/OFF.h>
+#include <CGAL/IO/PLY.h>
+#include <CGAL/IO/STL.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <random>
+#include <sstream>
+
+#include "common/errors.h"
+#include "common/numbers.h"
+#include "mesh/build_mesh.h"
+#include "mesh/mesh_io.h"
+#include "mesh/obj_io.h"
+#include "mesh/off_io.h"
+#include "script/runner.h"
+#include "test_meshes.h"
+#include "warp/bspline_lattice.h"
+#include "warp/warp_stack.h"
+
+namespace ffd {
+namespace {
+
+using CgalPoint = CGAL::Simple_cartesian<double>::Point_3;
+
+// ---------------------------------------------------------------------------------------
+// Helpers
+
+// 17 significant digits: a double written the way other tools write them.
+std::string digits17(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+std::string write_to_string(const Mesh& mesh, MeshFormat format, const WriteOptions& options = {}) {
+  std::ostringstream os;
+  write_mesh(os, format, mesh, options);
+  return os.str();
+}
+
+// Connectivity of a polygon mesh with triangles, quads and pentagons over an n × n grid of
+// vertices, plus n extra vertices on the bottom edge that turn the first row into pentagons.
+// Vertex (i, j) is j * (n + 1) + i; bottom midpoint i is (n + 1)^2 + i. All faces CCW.
+std::vector<std::vector<std::uint32_t>> polygon_faces(int n) {
+  const auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+  const auto mid = [n](int i) { return static_cast<std::uint32_t>((n + 1) * (n + 1) + i); };
+  std::vector<std::vector<std::uint32_t>> faces;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if (j == 0) {
+        faces.push_back({a, mid(i), b, c, d});  // pentagon
+      } else if (j % 3 == 2) {
+        faces.push_back({a, b, c});
+        faces.push_back({a, c, d});
+      } else {
+        // Quads; rotate the first vertex so that it is not always the smallest index.
+        std::vector<std::uint32_t> q = {a, b, c, d};
+        std::rotate(q.begin(), q.begin() + (i % 4), q.end());
+        faces.push_back(q);
+      }
+    }
+  return faces;
+}
+
+int polygon_vertex_count(int n) { return (n + 1) * (n + 1) + n; }
+
+// Random positions with full 17-digit precision near the grid (any magnitude is fine
+// for I/O; a few extreme ones are mixed in).
+std::vector<Eigen::Vector3d> random_positions(int n, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3), z(-1, 1);
+  std::vector<Eigen::Vector3d> p;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) p.emplace_back(i + jitter(rng), j + jitter(rng), z(rng));
+  for (int i = 0; i < n; ++i) p.emplace_back(i + 0.5 + jitter(rng) * 0.1, -0.2 + jitter(rng) * 0.1, z(rng));
+  // Extreme magnitudes and awkward values; re-read through %.17g like a foreign writer.
+  p[1].z() = 1e-300 * (1 + z(rng));
+  p[2].z() = -123456789.12345678;
+  p[3].z() = 0.1 + 0.2;
+  p[4].x() = 4.9406564584124654e-324 * 7;  // subnormal
+  for (auto& v : p)
+    for (int k = 0; k < 3; ++k) v[k] = std::strtod(digits17(v[k]).c_str(), nullptr);
+  return p;
+}
+
+void expect_same_soup(const PolygonSoup& a, const PolygonSoup& b, const std::string& what) {
+  SCOPED_TRACE(what);
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  for (std::size_t i = 0; i < a.positions.size(); ++i)
+    ASSERT_TRUE(a.positions[i] == b.positions[i]) << "vertex " << i << ": " << a.positions[i].transpose()
+                                                  << " vs " << b.positions[i].transpose();
+  ASSERT_EQ(a.uvs.size(), b.uvs.size());
+  for (std::size_t i = 0; i < a.uvs.size(); ++i) ASSERT_TRUE(a.uvs[i] == b.uvs[i]) << "vt " << i;
+  ASSERT_EQ(a.normals.size(), b.normals.size());
+  for (std::size_t i = 0; i < a.normals.size(); ++i) ASSERT_TRUE(a.normals[i] == b.normals[i]) << "vn " << i;
+  ASSERT_EQ(a.colors.size(), b.colors.size());
+  for (std::size_t i = 0; i < a.colors.size(); ++i) ASSERT_TRUE(a.colors[i] == b.colors[i]) << "colour " << i;
+  ASSERT_EQ(a.faces.size(), b.faces.size());
+  for (std::size_t f = 0; f < a.faces.size(); ++f) {
+    ASSERT_EQ(a.faces[f].vertices, b.faces[f].vertices) << "face " << f;
+    ASSERT_EQ(a.faces[f].uvs, b.faces[f].uvs) << "face " << f;
+    ASSERT_EQ(a.faces[f].normals, b.faces[f].normals) << "face " << f;
+    const ObjState sa = a.faces[f].group >= 0 ? a.groups[a.faces[f].group] : ObjState{};
+    const ObjState sb = b.faces[f].group >= 0 ? b.groups[b.faces[f].group] : ObjState{};
+    ASSERT_TRUE(sa == sb) << "face " << f << ": o/g/usemtl/s '" << sa.object << "' '" << sa.group << "' '"
+                          << sa.material << "' '" << sa.smoothing << "' vs '" << sb.object << "' '" << sb.group
+                          << "' '" << sb.material << "' '" << sb.smoothing << "'";
+  }
+  EXPECT_EQ(a.header, b.header);
+}
+
+// Expects `fn` to throw InputError whose message starts with `prefix` and contains every
+// one of `parts`.
+void expect_input_error(const std::function<void()>& fn, const std::string& prefix,
+                        const std::vector<std::string>& parts = {}) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(prefix, 0), 0u) << "message '" << what << "' does not start with '" << prefix << "'";
+    for (const std::string& part : parts)
+      EXPECT_NE(what.find(part), std::string::npos) << "message '" << what << "' does not mention '" << part << "'";
+    EXPECT_EQ(what.find('\n'), std::string::npos) << "message is not one line: " << what;
+    return;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "threw something other than InputError: " << e.what();
+    return;
+  }
+  ADD_FAILURE() << "no InputError (expected '" << prefix << "')";
+}
+
+Mesh obj_mesh(const std::string& text, const std::string& file = "x.obj") {
+  return build_mesh(read_obj(text, file), file);
+}
+
+// ---------------------------------------------------------------------------------------
+// OBJ round trip
+
+struct ObjModel {
+  std::string text;
+  PolygonSoup soup;  // what the text means
+};
+
+// An OBJ file with everything the format carries for ffdtool: mtllib, o/g/usemtl/s,
+// 17-digit positions, UVs, normals, per-corner indices in every corner syntax, polygons.
+ObjModel random_obj(int n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  ObjModel m;
+  PolygonSoup& s = m.soup;
+  s.positions = random_positions(n, rng);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const int nv = static_cast<int>(s.positions.size());
+  for (int i = 0; i < nv + 7; ++i)
+    s.uvs.emplace_back(std::strtod(digits17(unit(rng) * 0.5 + 0.5).c_str(), nullptr),
+                       std::strtod(digits17(unit(rng) * 0.5 + 0.5).c_str(), nullptr));
+  for (int i = 0; i < nv / 2; ++i) {
+    Eigen::Vector3d v(unit(rng), unit(rng), unit(rng));
+    v.normalize();
+    for (int k = 0; k < 3; ++k) v[k] = std::strtod(digits17(v[k]).c_str(), nullptr);
+    s.normals.push_back(v);
+  }
+  s.header = {"mtllib scene.mtl other.mtl"};
+
+  std::ostringstream os;
+  os << "# a test file\n" << s.header[0] << "\n";
+  for (const auto& p : s.positions) os << "v " << digits17(p.x()) << " " << digits17(p.y()) << "\t" << digits17(p.z()) << "\n";
+  os << "\n";
+  for (const auto& t : s.uvs) os << "vt " << digits17(t.x()) << " " << digits17(t.y()) << "\n";
+  for (const auto& v : s.normals) os << "vn " << digits17(v.x()) << " " << digits17(v.y()) << " " << digits17(v.z()) << "\n";
+
+  const auto faces = polygon_faces(n);
+  std::uniform_int_distribution<int> pick_uv(0, static_cast<int>(s.uvs.size()) - 1),
+      pick_vn(0, static_cast<int>(s.normals.size()) - 1);
+  ObjState state;
+  const auto set_state = [&](const std::string& key, const std::string& value, std::string ObjState::*slot) {
+    os << key << (value.empty() ? "" : " " + value) << "\n";
+    state.*slot = value;
+    s.groups.push_back(state);
+  };
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (f == 0) {
+      os << "o part_a\ng left arm\nusemtl red\n";
+      state.object = "part_a";
+      state.group = "left arm";
+      state.material = "red";
+      set_state("s", "1", &ObjState::smoothing);
+    } else if (f == 5) {
+      set_state("usemtl", "blue", &ObjState::material);
+    } else if (f == 9) {
+      os << "g right_arm\n";
+      state.group = "right_arm";
+      set_state("s", "off", &ObjState::smoothing);
+    } else if (f == 17) {
+      set_state("o", "part_b", &ObjState::object);
+    } else if (f == 30) {
+      set_state("usemtl", "red", &ObjState::material);  // back to an earlier state
+    }
+    SoupFace face;
+    face.vertices = faces[f];
+    face.group = static_cast<std::int32_t>(s.groups.size()) - 1;
+    const int syntax = static_cast<int>(f % 4);  // v, v/t, v//n, v/t/n
+    os << "f";
+    for (std::uint32_t v : faces[f]) {
+      // Mix 1-based and negative (relative) indices for vertices.
+      const bool relative = (f % 7) == 3;
+      os << " " << (relative ? std::to_string(static_cast<int>(v) - nv) : std::to_string(v + 1));
+      if (syntax == 1 || syntax == 3) {
+        face.uvs.push_back(pick_uv(rng));
+        os << "/" << face.uvs.back() + 1;
+      }
+      if (syntax == 2) os << "/";
+      if (syntax >= 2) {
+        face.normals.push_back(pick_vn(rng));
+        os << "/" << face.normals.back() + 1;
+      }
+    }
+    os << (f == 11 ? "  # trailing comment\n" : "\n");
+    s.faces.push_back(face);
+  }
+  m.text = os.str();
+  return m;
+}
+
+TEST(ObjIo, ReadsEveryStatementExactly) {
+  const ObjModel model = random_obj(8, 1);
+  const PolygonSoup soup = read_obj(model.text, "model.obj");
+  expect_same_soup(model.soup, soup, "file as written vs as read");
+  // Polygons of every kind are kept as they are.
+  std::map<std::size_t, std::size_t> degrees;
+  for (const auto& f : soup.faces) ++degrees[f.vertices.size()];
+  EXPECT_GT(degrees[3], 0u);
+  EXPECT_GT(degrees[4], 0u);
+  EXPECT_GT(degrees[5], 0u);
+}
+
+TEST(ObjIo, RoundTripIsExactAndStable) {
+  for (std::uint64_t seed : {1, 2, 3}) {
+    const ObjModel model = random_obj(10, seed);
+    const Mesh mesh = obj_mesh(model.text, "model.obj");
+    ASSERT_EQ(mesh.num_vertices(), model.soup.positions.size());
+    const std::string first = write_to_string(mesh, MeshFormat::Obj);
+    const PolygonSoup back = read_obj(first, "first.obj");
+    expect_same_soup(model.soup, back, "seed " + std::to_string(seed));
+    // Positions through the Mesh are identical too (==, not near).
+    const Mesh again = build_mesh(back, "first.obj");
+    ASSERT_EQ(again.num_vertices(), mesh.num_vertices());
+    for (std::size_t v = 0; v < mesh.num_vertices(); ++v)
+      ASSERT_TRUE(Eigen::Vector3d(again.positions().col(v)) == Eigen::Vector3d(mesh.positions().col(v))) << v;
+    EXPECT_EQ(again.faces(), mesh.faces());
+    // write(read(write(x))) == write(x), byte for byte.
+    EXPECT_EQ(write_to_string(again, MeshFormat::Obj), first);
+    EXPECT_NE(first.find("mtllib scene.mtl other.mtl\n"), std::string::npos);
+    EXPECT_NE(first.find("g left arm\n"), std::string::npos);
+  }
+}
+
+TEST(ObjIo, VertexColoursRoundTrip) {
+  const std::string text =
+      "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 1 1 0 0.25 0.5 0.75\nf 1 2 4 3\n";
+  const Mesh mesh = obj_mesh(text);
+  ASSERT_TRUE(mesh.has_colors());
+  const std::string first = write_to_string(mesh, MeshFormat::Obj);
+  const PolygonSoup back = read_obj(first, "c.obj");
+  const PolygonSoup orig = read_obj(text, "c.obj");
+  expect_same_soup(orig, back, "colours");
+  EXPECT_EQ(write_to_string(obj_mesh(first), MeshFormat::Obj), first);
+}
+
+// ---------------------------------------------------------------------------------------
+// OFF round trip
+
+struct OffModel {
+  std::string text;
+  PolygonSoup soup;
+};
+
+OffModel random_off(int n, std::uint64_t seed, bool colors, bool normals) {
+  std::mt19937_64 rng(seed);
+  OffModel m;
+  PolygonSoup& s = m.soup;
+  s.positions = random_positions(n, rng);
+  std::uniform_int_distribution<int> byte(0, 255);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const auto faces = polygon_faces(n);
+  std::ostringstream os;
+  os << (colors ? "C" : "") << (normals ? "N" : "") << "OFF\n# comment line\n\n";
+  os << s.positions.size() << " " << faces.size() << " 0\n";
+  for (const auto& p : s.positions) {
+    os << digits17(p.x()) << " " << digits17(p.y()) << " " << digits17(p.z());
+    if (normals) {
+      Eigen::Vector3d v(unit(rng), unit(rng), unit(rng));
+      v.normalize();
+      for (int k = 0; k < 3; ++k) v[k] = std::strtod(digits17(v[k]).c_str(), nullptr);
+      s.normals.push_back(v);
+      os << " " << digits17(v.x()) << " " << digits17(v.y()) << " " << digits17(v.z());
+    }
+    if (colors) {
+      const int r = byte(rng), g = byte(rng), b = byte(rng);
+      s.colors.emplace_back(static_cast<float>(r / 255.0), static_cast<float>(g / 255.0),
+                            static_cast<float>(b / 255.0));
+      os << " " << r << " " << g << " " << b << " 255";
+    }
+    os << "\n";
+  }
+  for (const auto& f : faces) {
+    os << f.size();
+    for (std::uint32_t v : f) os << " " << v;
+    os << "\n";
+    SoupFace face;
+    face.vertices = f;
+    if (normals) face.normals.assign(f.begin(), f.end());
+    s.faces.push_back(face);
+  }
+  m.text = os.str();
+  return m;
+}
+
+TEST(OffIo, RoundTripIsExactAndStableForEveryVariant) {
+  struct Variant {
+    bool colors, normals;
+    const char* keyword;
+  };
+  for (const Variant& variant : {Variant{false, false, "OFF"}, Variant{true, false, "COFF"},
+                                 Variant{false, true, "NOFF"}, Variant{true, true, "CNOFF"}}) {
+    SCOPED_TRACE(variant.keyword);
+    const OffModel model = random_off(9, 7, variant.colors, variant.normals);
+    ASSERT_EQ(model.text.rfind(variant.keyword, 0), 0u);
+    const PolygonSoup read = read_off(model.text, "model.off");
+    expect_same_soup(model.soup, read, "as written vs as read");
+    const Mesh mesh = build_mesh(read, "model.off");
+    const std::string first = write_to_string(mesh, MeshFormat::Off);
+    EXPECT_EQ(first.rfind(std::string(variant.keyword) + "\n", 0), 0u) << first.substr(0, 10);
+    const PolygonSoup back = read_off(first, "first.off");
+    expect_same_soup(model.soup, back, "round trip");
+    const Mesh again = build_mesh(back, "first.off");
+    EXPECT_EQ(again.faces(), mesh.faces());
+    EXPECT_EQ(write_to_string(again, MeshFormat::Off), first);
+  }
+}
+
+TEST(OffIo, ReadsCountsOnTheHeaderLineAndCrlf) {
+  const std::string text = "OFF 4 1 0\r\n0 0 0\r\n1 0 0\r\n1 1 0\r\n0 1 0\r\n4 0 1 2 3\r\n";
+  const PolygonSoup soup = read_off(text, "a.off");
+  ASSERT_EQ(soup.positions.size(), 4u);
+  ASSERT_EQ(soup.faces.size(), 1u);
+  EXPECT_EQ(soup.faces[0].vertices, (std::vector<std::uint32_t>{0, 1, 2, 3}));
+}
+
+// ---------------------------------------------------------------------------------------
+// Agreement with independent readers
+
+TEST(MeshIoAgreement, TinyObjLoaderReadsTheBunnyTheSame) {
+  const std::string path = test::data("bunny.obj");
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warn, err;
+  ASSERT_TRUE(tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, path.c_str(), nullptr,
+                               /*triangulate=*/false))
+      << err;
+  static_assert(sizeof(tinyobj::real_t) == sizeof(double), "the test links tinyobjloader_double");
+
+  const Mesh mesh = read_mesh(path);
+  ASSERT_EQ(mesh.num_vertices(), 1839u);
+  ASSERT_EQ(attrib.vertices.size(), 3 * mesh.num_vertices());
+  std::size_t differ = 0;
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v)
+    for (int k = 0; k < 3; ++k) {
+      const double ours = mesh.positions()(k, static_cast<Eigen::Index>(v));
+      const double theirs = attrib.vertices[3 * v + k];
+      // tinyobjloader's parser is not correctly rounded; ours is (from_chars).
+      ASSERT_LE(std::abs(ours - theirs), 1e-15 * std::abs(ours)) << "vertex " << v << " coordinate " << k;
+      differ += ours != theirs;
+    }
+  // Ours is the correctly rounded value of the file's text.
+  std::ifstream is(path);
+  std::string line;
+  std::size_t v = 0;
+  while (std::getline(is, line)) {
+    if (line.rfind("v ", 0) != 0) continue;
+    std::istringstream ls(line.substr(2));
+    for (int k = 0; k < 3; ++k) {
+      std::string token;
+      ls >> token;
+      ASSERT_EQ(mesh.positions()(k, static_cast<Eigen::Index>(v)), std::strtod(token.c_str(), nullptr));
+    }
+    ++v;
+  }
+  EXPECT_EQ(v, mesh.num_vertices());
+
+  std::vector<std::vector<std::uint32_t>> theirs;
+  for (const tinyobj::shape_t& shape : shapes) {
+    std::size_t offset = 0;
+    for (unsigned char count : shape.mesh.num_face_vertices) {
+      std::vector<std::uint32_t> face;
+      for (unsigned c = 0; c < count; ++c)
+        face.push_back(static_cast<std::uint32_t>(shape.mesh.indices[offset + c].vertex_index));
+      offset += count;
+      theirs.push_back(face);
+    }
+  }
+  EXPECT_EQ(theirs.size(), 3674u);
+  EXPECT_EQ(mesh.faces(), theirs);
+}
+
+TEST(MeshIoAgreement, CgalReadsOurOffTheSame) {
+  std::mt19937_64 rng(11);
+  PolygonSoup soup;
+  soup.positions = random_positions(12, rng);
+  for (const auto& f : polygon_faces(12)) {
+    SoupFace face;
+    face.vertices = f;
+    soup.faces.push_back(face);
+  }
+  const Mesh mesh = build_mesh(soup, "soup");
+  const std::string path = test::temp_folder("cgal_off") + "/ours.off";
+  write_mesh(path, mesh);
+
+  std::vector<CgalPoint> points;
+  std::vector<std::vector<std::size_t>> polygons;
+  ASSERT_TRUE(CGAL::IO::read_OFF(path, points, polygons));
+  ASSERT_EQ(points.size(), mesh.num_vertices());
+  for (std::size_t v = 0; v < points.size(); ++v)
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(points[v][k], mesh.positions()(k, static_cast<Eigen::Index>(v))) << "vertex " << v;
+  const auto faces = mesh.faces();
+  ASSERT_EQ(polygons.size(), faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    ASSERT_EQ(std::vector<std::size_t>(faces[f].begin(), faces[f].end()), polygons[f]) << "face " << f;
+  for (std::size_t v = 0; v < points.size(); ++v)
+    EXPECT_TRUE(Eigen::Vector3d(points[v].x(), points[v].y(), points[v].z()) == soup.positions[v]) << v;
+}
+
+Mesh random_polygon_mesh(int n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  PolygonSoup soup;
+  soup.positions = random_positions(n, rng);
+  for (const auto& f : polygon_faces(n)) {
+    SoupFace face;
+    face.vertices = f;
+    soup.faces.push_back(face);
+  }
+  return build_mesh(soup, "soup");
+}
+
+TEST(MeshIoAgreement, CgalReadsOurPlyExactly) {
+  const Mesh mesh = random_polygon_mesh(10, 21);
+  const std::string path = test::temp_folder("cgal_ply") + "/ours.ply";
+  write_mesh(path, mesh);
+  std::ifstream is(path, std::ios::binary);
+  std::vector<CgalPoint> points;
+  std::vector<std::vector<std::size_t>> polygons;
+  ASSERT_TRUE(CGAL::IO::read_PLY(is, points, polygons));
+  ASSERT_EQ(points.size(), mesh.num_vertices());
+  for (std::size_t v = 0; v < points.size(); ++v)
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(points[v][k], mesh.positions()(k, static_cast<Eigen::Index>(v))) << "vertex " << v;
+  const auto faces = mesh.faces();
+  ASSERT_EQ(polygons.size(), faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    ASSERT_EQ(std::vector<std::size_t>(faces[f].begin(), faces[f].end()), polygons[f]) << "face " << f;
+
+  // And our PLY reader (CGAL underneath) gives the mesh back unchanged.
+  const Mesh back = read_mesh(path);
+  EXPECT_EQ(back.faces(), faces);
+  EXPECT_TRUE(Eigen::Matrix3Xd(back.positions()) == Eigen::Matrix3Xd(mesh.positions()));
+}
+
+TEST(MeshIoAgreement, CgalReadsOurStlAsTriangleFansWithMergedCorners) {
+  const Mesh mesh = random_polygon_mesh(8, 31);
+  const std::string path = test::temp_folder("cgal_stl") + "/ours.stl";
+  write_mesh(path, mesh);
+  std::ifstream is(path, std::ios::binary);
+  std::vector<CgalPoint> points;
+  std::vector<std::array<std::size_t, 3>> triangles;
+  ASSERT_TRUE(CGAL::IO::read_STL(is, points, triangles));
+  // STL repeats each corner point per triangle; equal points become one vertex.
+  EXPECT_EQ(points.size(), mesh.num_vertices());
+  std::vector<std::array<Eigen::Vector3d, 3>> fans;
+  std::vector<std::uint32_t> ids;
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    mesh.face_vertices(f, ids);
+    for (std::size_t i = 1; i + 1 < ids.size(); ++i)
+      fans.push_back({mesh.positions().col(ids[0]), mesh.positions().col(ids[i]), mesh.positions().col(ids[i + 1])});
+  }
+  ASSERT_EQ(triangles.size(), fans.size());
+  for (std::size_t t = 0; t < fans.size(); ++t)
+    for (int c = 0; c < 3; ++c) {
+      const CgalPoint& p = points[triangles[t][c]];
+      ASSERT_TRUE(Eigen::Vector3d(p.x(), p.y(), p.z()) == fans[t][c]) << "triangle " << t << " corner " << c;
+    }
+
+  const Mesh back = read_mesh(path);
+  EXPECT_EQ(back.num_vertices(), mesh.num_vertices());
+  EXPECT_EQ(back.num_faces(), fans.size());
+  EXPECT_TRUE(back.is_triangle_mesh());
+}
+
+// ---------------------------------------------------------------------------------------
+// Bad input: InputError naming the file and the line
+
+TEST(ObjIo, RejectsMalformedLinesWithFileAndLine) {
+  const std::string head = "v 0 0 0\nv 1 0 0\n";  // lines 1-2
+  const auto read = [](const std::string& text) { return [text] { obj_mesh(text, "x.obj"); }; };
+  expect_input_error(read(head + "v 1 2\nf 1 2 3\n"), "x.obj:3:", {"v x y z", "2 values"});
+  expect_input_error(read(head + "v 1 2 nan\nf 1 2 3\n"), "x.obj:3:", {"'nan'", "not a finite number"});
+  expect_input_error(read(head + "v 1 inf 2\nf 1 2 3\n"), "x.obj:3:", {"'inf'", "not a finite number"});
+  expect_input_error(read(head + "v 1 1e999 2\nf 1 2 3\n"), "x.obj:3:", {"1e999"});
+  expect_input_error(read(head + "v a b c\n"), "x.obj:3:", {"'a'"});
+  expect_input_error(read(head + "v 0 1 0\nf 1 2 9\n"), "x.obj:4:", {"index 9", "out of range", "3 defined"});
+  expect_input_error(read(head + "v 0 1 0\nf 1 2 -4\n"), "x.obj:4:", {"out of range"});
+  expect_input_error(read("f 1 2 3\n" + head + "v 0 1 0\n"), "x.obj:1:", {"out of range", "0 defined"});
+  expect_input_error(read(head + "v 0 1 0\nf 0 1 2\n"), "x.obj:4:", {"'0'", "non-zero"});
+  expect_input_error(read(head + "v 0 1 0\nf 1 2 x\n"), "x.obj:4:", {"'x'"});
+  expect_input_error(read(head + "v 0 1 0\nvt 0 0\nf 1/1 2/5 3/1\n"), "x.obj:5:", {"texture", "out of range"});
+  expect_input_error(read(head + "v 0 1 0\nf 1//1 2//1 3//1\n"), "x.obj:4:", {"normal", "out of range"});
+  expect_input_error(read(head + "v 0 1 0\nf 1 2\n"), "x.obj:4:", {"at least 3"});
+  expect_input_error(read(head + "frobnicate 1 2\n"), "x.obj:3:", {"unsupported", "'frobnicate'"});
+  expect_input_error(read(head + "curv 0 1 1 2\n"), "x.obj:3:", {"'curv'"});
+  expect_input_error(read(head + "l 1 2\n"), "x.obj:3:", {"'l'", "not supported"});
+  expect_input_error(read(head + "p 1\n"), "x.obj:3:", {"'p'", "not supported"});
+  expect_input_error(read(head + "vn 0 nan 1\n"), "x.obj:3:", {"'nan'"});
+  expect_input_error(read(head + "vt 0.5 inf\n"), "x.obj:3:", {"'inf'"});
+  expect_input_error(read(head + "v 0 1 0 2\n"), "x.obj:3:", {"w != 1"});
+}
+
+TEST(ObjIo, RejectsBadConnectivityWithFileAndLine) {
+  const std::string verts = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0.5 0.5 1\n";  // lines 1-5
+  // Three faces on the edge (1, 2).
+  expect_input_error([&] { obj_mesh(verts + "f 1 2 3\nf 2 1 4\nf 1 2 5\n", "x.obj"); }, "x.obj:8:",
+                     {"non-manifold", "(0, 1)"});
+  // Two faces using the edge (1, 2) in the same direction.
+  expect_input_error([&] { obj_mesh(verts + "f 1 2 3\nf 1 2 4\n", "x.obj"); }, "x.obj:7:", {"oriented"});
+  // A face repeating a vertex.
+  expect_input_error([&] { obj_mesh(verts + "f 1 2 3\nf 2 4 1 4\n", "x.obj"); }, "x.obj:7:", {"twice"});
+  expect_input_error([&] { obj_mesh(verts + "f 1 2 1\n", "x.obj"); }, "x.obj:6:", {"twice"});
+}
+
+TEST(ObjIo, ReadMeshNamesThePathAndLine) {
+  const std::string dir = test::temp_folder("obj_errors");
+  test::write_file(dir + "/bad.obj", "# header\nv 0 0 0\nv 1 2\n");
+  expect_input_error([&] { read_mesh(dir + "/bad.obj"); }, dir + "/bad.obj:3:", {"2 values"});
+  expect_input_error([&] { read_mesh(dir + "/missing.obj"); }, dir + "/missing.obj:", {"no such file"});
+  expect_input_error([&] { read_mesh(dir + "/mesh.xyz"); }, dir + "/mesh.xyz:", {"unknown mesh format"});
+}
+
+TEST(OffIo, RejectsMalformedFilesWithFileAndLine) {
+  const auto read = [](const std::string& text) { return [text] { build_mesh(read_off(text, "x.off"), "x.off"); }; };
+  const std::string tri = "0 0 0\n1 0 0\n0 1 0\n";  // lines 3-5 after "OFF\nn f e\n"
+  // Sanity: the well-formed file reads.
+  EXPECT_NO_THROW(read("OFF\n3 1 0\n" + tri + "3 0 1 2\n")());
+  // More vertices promised than given: the face line is read as a vertex.
+  expect_input_error(read("OFF\n4 1 0\n" + tri + "3 0 1 2\n"), "x.off:6:", {"vertex 3"});
+  // More faces promised than given: names the header line with the count.
+  expect_input_error(read("OFF\n3 2 0\n" + tri + "3 0 1 2\n"), "x.off:2:", {"2 faces"});
+  expect_input_error(read("OFF\n5 1 0\n" + tri), "x.off:2:", {"5 vertices"});
+  EXPECT_NO_THROW(read("OFF\n3 1\n" + tri + "3 0 1 2\n")());  // the edge count may be left out
+  expect_input_error(read("OFF\n3 x 0\n" + tri + "3 0 1 2\n"), "x.off:2:", {"count"});
+  // A vertex line with a missing coordinate; a non-finite one.
+  expect_input_error(read("OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n"), "x.off:4:", {"vertex 1", "found 2"});
+  expect_input_error(read("OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"), "x.off:4:", {"'nan'"});
+  expect_input_error(read("OFF\n3 1 0\n0 0 0\n1 0 inf\n0 1 0\n3 0 1 2\n"), "x.off:4:", {"'inf'"});
+  // Faces: index out of range, too few indices, wrong vertex count.
+  expect_input_error(read("OFF\n3 1 0\n" + tri + "3 0 1 7\n"), "x.off:6:", {"'7'", "out of range"});
+  expect_input_error(read("OFF\n3 1 0\n" + tri + "3 0 1 -1\n"), "x.off:6:", {"out of range"});
+  expect_input_error(read("OFF\n3 1 0\n" + tri + "3 0 1\n"), "x.off:6:", {"2 of its 3"});
+  expect_input_error(read("OFF\n3 1 0\n" + tri + "2 0 1\n"), "x.off:6:", {"3 or more"});
+  expect_input_error(read("OFF\n3 1 0\n" + tri + "3 0 1 1\n"), "x.off:6:", {"twice"});
+  // Trailing garbage after the last face.
+  expect_input_error(read("OFF\n3 1 0\n" + tri + "3 0 1 2\n\njunk\n"), "x.off:8:", {"after the last face"});
+  // Binary OFF and unknown variants.
+  expect_input_error(read("OFF BINARY\n3 1 0\n"), "x.off:1:", {"binary"});
+  expect_input_error(read("4OFF\n3 1 0\n" + tri + "3 0 1 2\n"), "x.off:1:", {"'4OFF'"});
+}
+
+TEST(OffIo, RejectsNonManifoldAndMisorientedFaces) {
+  const std::string verts = "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0.5 0.5 1\n";  // faces from line 8
+  expect_input_error([&] { build_mesh(read_off(verts + "3 0 1 2\n3 1 0 3\n3 0 1 4\n", "x.off"), "x.off"); },
+                     "x.off:10:", {"non-manifold"});
+  expect_input_error(
+      [&] { build_mesh(read_off("OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n3 0 1 2\n3 0 1 3\n", "x.off"), "x.off"); },
+      "x.off:8:", {"oriented"});
+}
+
+// ---------------------------------------------------------------------------------------
+// build_mesh keeps the file's order
+
+TEST(BuildMesh, KeepsVertexOrderAndEachFacesFirstVertex) {
+  std::mt19937_64 rng(5);
+  const int n = 9;
+  const auto grid = polygon_faces(n);
+  const int nv = polygon_vertex_count(n);
+  // A random relabelling of the vertices, an isolated vertex, and faces starting anywhere.
+  std::vector<std::uint32_t> label(nv);
+  std::iota(label.begin(), label.end(), 0u);
+  std::shuffle(label.begin(), label.end(), rng);
+  PolygonSoup soup;
+  const std::vector<Eigen::Vector3d> base = random_positions(n, rng);
+  soup.positions.resize(nv + 1);
+  for (int v = 0; v < nv; ++v) soup.positions[label[v]] = base[v];
+  soup.positions[nv] = Eigen::Vector3d(100, 200, 300);  // isolated
+  std::vector<std::vector<std::uint32_t>> expect;
+  for (const auto& f : grid) {
+    std::vector<std::uint32_t> face;
+    for (std::uint32_t v : f) face.push_back(label[v]);
+    std::rotate(face.begin(), face.begin() + rng() % face.size(), face.end());
+    expect.push_back(face);
+    SoupFace sf;
+    sf.vertices = face;
+    soup.faces.push_back(sf);
+  }
+  std::shuffle(soup.faces.begin(), soup.faces.end(), rng);  // any face order
+  expect.clear();
+  for (const auto& f : soup.faces) expect.push_back(f.vertices);
+
+  const Mesh mesh = build_mesh(soup, "soup");
+  ASSERT_EQ(mesh.num_vertices(), soup.positions.size());
+  for (std::size_t v = 0; v < soup.positions.size(); ++v) {
+    EXPECT_TRUE(Eigen::Vector3d(mesh.positions().col(v)) == soup.positions[v]) << v;
+    EXPECT_TRUE(Eigen::Vector3d(mesh.rest_positions().col(v)) == soup.positions[v]) << v;
+  }
+  EXPECT_EQ(mesh.faces(), expect);
+  // The OBJ writer writes them the same way.
+  const PolygonSoup back = read_obj(write_to_string(mesh, MeshFormat::Obj), "back.obj");
+  ASSERT_EQ(back.faces.size(), expect.size());
+  for (std::size_t f = 0; f < expect.size(); ++f) EXPECT_EQ(back.faces[f].vertices, expect[f]) << f;
+  EXPECT_EQ(back.positions.size(), soup.positions.size());
+}
+
+// ---------------------------------------------------------------------------------------
+// Attributes through a deformation
+
+std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> out;
+  std::istringstream is(text);
+  std::string line;
+  while (std::getline(is, line))
+    if (line.rfind(prefix, 0) == 0) out.push_back(line);
+  return out;
+}
+
+// A wavy quad grid in the writer's canonical form, each face corner with its own UV
+// (seams everywhere) and, when asked, file normals: faces alternately flat-shaded (one vn
+// shared by the face's corners) and smooth (one vn per vertex, shared across faces).
+std::string attribute_grid(int n, bool uvs, bool normals) {
+  const auto height = [](double x, double y) { return 0.2 * std::sin(3 * x) * std::cos(2 * y); };
+  const PolygonSoup grid = test::grid_soup(n, height, true);
+  std::string text = "mtllib grid.mtl\n";
+  for (const auto& p : grid.positions) {
+    text += "v ";
+    append_number(text, p.x());
+    text += " ";
+    append_number(text, p.y());
+    text += " ";
+    append_number(text, p.z());
+    text += "\n";
+  }
+  std::vector<std::string> corner_uv;
+  if (uvs) {
+    int t = 0;
+    for (std::size_t f = 0; f < grid.faces.size(); ++f)
+      for (std::size_t c = 0; c < grid.faces[f].vertices.size(); ++c) {
+        const Eigen::Vector3d& p = grid.positions[grid.faces[f].vertices[c]];
+        text += "vt ";
+        append_number(text, p.x() * 0.9 + 0.01 * static_cast<double>(f % 3));
+        text += " ";
+        append_number(text, p.y() * 0.9 + 0.001 * static_cast<double>(c));
+        text += "\n";
+        corner_uv.push_back(std::to_string(++t));
+      }
+  }
+  std::vector<std::string> vertex_vn(grid.positions.size()), face_vn(grid.faces.size());
+  if (normals) {
+    int k = 0;
+    const auto add = [&](Eigen::Vector3d v) {
+      v.normalize();
+      text += "vn ";
+      append_number(text, v.x());
+      text += " ";
+      append_number(text, v.y());
+      text += " ";
+      append_number(text, v.z());
+      text += "\n";
+      return std::to_string(++k);
+    };
+    for (std::size_t v = 0; v < grid.positions.size(); ++v) {
+      const Eigen::Vector3d& p = grid.positions[v];
+      vertex_vn[v] = add(Eigen::Vector3d(-0.6 * std::cos(3 * p.x()) * std::cos(2 * p.y()),
+                                         0.4 * std::sin(3 * p.x()) * std::sin(2 * p.y()), 1.0));
+    }
+    for (std::size_t f = 0; f < grid.faces.size(); ++f)
+      face_vn[f] = add(Eigen::Vector3d(0.1 * static_cast<double>(f % 5), -0.2, 1.0));
+  }
+  text += "g sheet\nusemtl paper\n";
+  int corner = 0;
+  for (std::size_t f = 0; f < grid.faces.size(); ++f) {
+    text += "f";
+    for (std::uint32_t v : grid.faces[f].vertices) {
+      text += " " + std::to_string(v + 1);
+      if (uvs || normals) text += "/";
+      if (uvs) text += corner_uv[corner];
+      if (normals) text += "/" + (f % 2 ? face_vn[f] : vertex_vn[v]);
+      ++corner;
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+std::string run_on(const std::string& name, const std::string& mesh_text, const std::string& script) {
+  const std::string dir = test::temp_folder(name);
+  test::write_file(dir + "/in.obj", mesh_text);
+  test::write_file(dir + "/script.json", script);
+  RunOptions options;
+  options.mesh = dir + "/in.obj";
+  options.script = dir + "/script.json";
+  options.output = dir + "/out.obj";
+  options.quiet = true;
+  run_script(options);
+  return test::read_file(dir + "/out.obj");
+}
+
+TEST(MeshAttributes, UvsSurviveADeformation) {
+  const std::string input = attribute_grid(8, true, false);
+  const std::string output = run_on("uv_run", input,
+                                    R"({"version": 1, "steps": [
+        {"op": "lattice", "name": "l", "cells": [4, 4, 4]},
+        {"op": "move", "lattice": "l", "points": [{"index": [2, 2, 2], "by": [0.05, 0.1, 0.2]}]}]})");
+  // The UV table and every face's corner strings are unchanged...
+  EXPECT_EQ(lines_starting(output, "vt "), lines_starting(input, "vt "));
+  EXPECT_EQ(lines_starting(output, "f "), lines_starting(input, "f "));
+  EXPECT_EQ(lines_starting(output, "g "), lines_starting(input, "g "));
+  EXPECT_EQ(lines_starting(output, "mtllib "), lines_starting(input, "mtllib "));
+  EXPECT_FALSE(lines_starting(input, "vt ").empty());
+  // ...while the positions moved.
+  const PolygonSoup in = read_obj(input, "in.obj"), out = read_obj(output, "out.obj");
+  ASSERT_EQ(in.positions.size(), out.positions.size());
+  std::size_t moved = 0;
+  double largest = 0;
+  for (std::size_t v = 0; v < in.positions.size(); ++v) {
+    moved += in.positions[v] != out.positions[v];
+    largest = std::max(largest, (in.positions[v] - out.positions[v]).norm());
+  }
+  EXPECT_GT(moved, in.positions.size() / 4);
+  EXPECT_GT(largest, 0.05);
+  EXPECT_EQ(in.uvs, out.uvs);
+  for (std::size_t f = 0; f < in.faces.size(); ++f) EXPECT_EQ(in.faces[f].uvs, out.faces[f].uvs);
+}
+
+// The cofactor of J times n, from J's columns: cof(J) = [b×c, c×a, a×b].
+Eigen::Vector3d cofactor_normal(const Eigen::Matrix3d& J, const Eigen::Vector3d& n) {
+  const Eigen::Vector3d a = J.col(0), b = J.col(1), c = J.col(2);
+  return n[0] * b.cross(c) + n[1] * c.cross(a) + n[2] * a.cross(b);
+}
+
+TEST(MeshAttributes, FileNormalsAreTransformedByTheCofactor) {
+  const std::string input = attribute_grid(10, true, true);
+  const PolygonSoup in = read_obj(input, "in.obj");
+  Mesh mesh = build_mesh(in, "in.obj");
+  WarpStack stack;
+  auto owned = std::make_unique<BSplineLattice>(fit_aabb(mesh.positions(), {}, 0.1), Index3{5, 5, 5}, 3);
+  BSplineLattice* lattice = owned.get();
+  stack.push(mesh, "l", std::move(owned));
+  lattice->move_point({2, 2, 2}, lattice->point({2, 2, 2}) + Eigen::Vector3d(0.1, -0.05, 0.2));
+  lattice->move_point({3, 2, 3}, lattice->point({3, 2, 3}) + Eigen::Vector3d(-0.1, 0.1, -0.15));
+  lattice->move_point({3, 3, 2}, lattice->point({3, 3, 2}) + Eigen::Vector3d(0.0, 0.15, 0.1));
+  stack.update(mesh, "l");
+
+  WriteOptions options;
+  options.transform_normal = [&](std::uint32_t v, const Eigen::Vector3d& n) { return stack.transform_normal(mesh, v, n); };
+  const std::string output = write_to_string(mesh, MeshFormat::Obj, options);
+  const PolygonSoup out = read_obj(output, "out.obj");
+  ASSERT_EQ(out.faces.size(), in.faces.size());
+  EXPECT_EQ(lines_starting(output, "vt "), lines_starting(input, "vt "));
+
+  std::size_t corners = 0, changed = 0;
+  for (std::size_t f = 0; f < in.faces.size(); ++f) {
+    ASSERT_EQ(in.faces[f].vertices, out.faces[f].vertices);
+    ASSERT_EQ(out.faces[f].normals.size(), in.faces[f].vertices.size());
+    for (std::size_t c = 0; c < in.faces[f].vertices.size(); ++c) {
+      const std::uint32_t v = in.faces[f].vertices[c];
+      const Eigen::Vector3d n_in = in.normals[in.faces[f].normals[c]];
+      const Eigen::Vector3d n_out = out.normals[out.faces[f].normals[c]];
+      // Exactly the warp stack's transformed normal (the file holds it round-trip exact)...
+      ASSERT_TRUE(n_out == stack.transform_normal(mesh, v, n_in)) << "face " << f << " corner " << c;
+      // ...which is the normalized cofactor-transformed normal, of unit length...
+      Eigen::Matrix3d J;
+      stack.evaluate(Eigen::Vector3d(mesh.rest_positions().col(v)), &J);
+      const Eigen::Vector3d expect = cofactor_normal(J, n_in).normalized();
+      EXPECT_LT((n_out - expect).norm(), 1e-13) << "face " << f << " corner " << c;
+      EXPECT_NEAR(n_out.norm(), 1.0, 1e-15 * 4);
+      // ...and perpendicular to the deformed tangents.
+      const Eigen::Vector3d t1 = n_in.unitOrthogonal(), t2 = n_in.cross(t1);
+      EXPECT_LT(std::abs(n_out.dot(J * t1)), 1e-12 * (J * t1).norm());
+      EXPECT_LT(std::abs(n_out.dot(J * t2)), 1e-12 * (J * t2).norm());
+      changed += n_out != n_in;
+      ++corners;
+    }
+  }
+  EXPECT_GT(changed, corners / 10) << "the deformation should change many normals";
+  EXPECT_LT(changed, corners) << "vertices outside the moved cells keep their normals";
+}
+
+TEST(MeshAttributes, IdentityRunWritesTheNormalTableUnchanged) {
+  const std::string input = attribute_grid(6, true, true);
+  for (const char* script : {R"({"version": 1, "steps": [{"op": "lattice", "name": "l", "cells": [4, 4, 4]}]})",
+                             R"({"version": 1, "steps": [{"op": "lattice", "name": "l", "cells": [4, 4, 4]},
+                                 {"op": "move", "lattice": "l", "points": [{"index": [2, 2, 2], "by": [0, 0, 0]}]}]})"}) {
+    const std::string output = run_on("identity_run", input, script);
+    EXPECT_FALSE(lines_starting(input, "vn ").empty());
+    EXPECT_EQ(lines_starting(output, "vn "), lines_starting(input, "vn "));
+    EXPECT_EQ(lines_starting(output, "f "), lines_starting(input, "f "));
+    EXPECT_EQ(lines_starting(output, "vt "), lines_starting(input, "vt "));
+    EXPECT_EQ(output, input) << "an identity run rewrites the file it read, byte for byte";
+  }
+}
+
+}  // namespace
+}  // namespace ffd
