@@ -77,6 +77,7 @@ PolygonSoup read_off(std::string_view text, const std::string& file) {
       throw InputError(place(file, lines.number()) + ": binary OFF is not supported");
     counts.assign(t.begin() + first, t.end());
   }
+  const std::size_t counts_line = lines.number();  // named when the file ends early
   if (counts.size() != 3 && counts.size() != 2)
     throw InputError(file + ":" + std::to_string(lines.number()) +
                      ": expected the counts 'vertices faces edges'");
@@ -89,8 +90,8 @@ PolygonSoup read_off(std::string_view text, const std::string& file) {
   if (header.normal) soup.normals.reserve(nv);
   while (static_cast<long long>(soup.positions.size()) < nv) {
     if (!lines.next(line))
-      throw InputError(file + ": the file ends after " + std::to_string(soup.positions.size()) +
-                       " of " + std::to_string(nv) + " vertices");
+      throw InputError(place(file, counts_line) + ": the file ends after " + std::to_string(soup.positions.size()) +
+                       " of the " + std::to_string(nv) + " vertices this line promises");
     split_tokens(line, t);
     if (t.empty()) continue;
     const std::size_t n = lines.number();
@@ -122,8 +123,8 @@ PolygonSoup read_off(std::string_view text, const std::string& file) {
   soup.faces.reserve(nf);
   while (static_cast<long long>(soup.faces.size()) < nf) {
     if (!lines.next(line))
-      throw InputError(file + ": the file ends after " + std::to_string(soup.faces.size()) +
-                       " of " + std::to_string(nf) + " faces");
+      throw InputError(place(file, counts_line) + ": the file ends after " + std::to_string(soup.faces.size()) +
+                       " of the " + std::to_string(nf) + " faces this line promises");
     split_tokens(line, t);
     if (t.empty()) continue;
     const std::size_t n = lines.number();
