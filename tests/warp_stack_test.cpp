@@ -68,8 +68,6 @@ TEST(WarpStack, UpdateTouchesOnlyVerticesInAlteredCells) {
   }
   EXPECT_EQ(update.moved, expected);
   EXPECT_GT(update.moved, 0u);
-  auto moved = mesh.flag_attribute("moved");
-  EXPECT_EQ(static_cast<std::size_t>(moved.cast<int>().sum()), expected);
 }
 
 TEST(WarpStack, NewVerticesAreEvaluatedFromRestSpace) {

@@ -92,6 +92,8 @@ Mesh build_mesh(const PolygonSoup& soup, const std::string& file) {
       if (!face.normals.empty()) s.vn[h] = face.normals[c];
     }
   }
+  s.file_uv_count = soup.uvs.size();
+  s.file_normal_count = soup.normals.size();
   s.has_uvs = !soup.uvs.empty();
   s.has_file_normals = !soup.normals.empty();
   mesh.recompute_rest_normals(true);

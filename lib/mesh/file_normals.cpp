@@ -50,6 +50,7 @@ void bake_file_normals(Mesh& mesh, const NormalTransform& transform) {
   CornerNormals baked = transformed_file_normals(mesh, transform);
   MeshStorage& s = mesh.storage();
   s.file_normals = std::move(baked.table);
+  s.file_normal_count = s.file_normals.size();
   for (HalfedgeIndex h : s.sm.halfedges()) s.vn[h] = static_cast<std::int32_t>(baked.corner[h.idx()]);
 }
 

@@ -1,6 +1,7 @@
 #include "mesh/mesh.h"
 
 #include "mesh/mesh_storage.h"
+#include "mesh/vertex_colors.h"
 #include "mesh/vertex_normals.h"
 
 namespace ffd {
@@ -24,7 +25,9 @@ MeshStorage::MeshStorage(const MeshStorage& other)
       has_uvs(other.has_uvs),
       has_file_normals(other.has_file_normals),
       has_colors(other.has_colors),
-      topology_version(other.topology_version) {
+      topology_version(other.topology_version),
+      file_uv_count(other.file_uv_count),
+      file_normal_count(other.file_normal_count) {
   bind();
 }
 
@@ -56,7 +59,7 @@ ConstVec3Array const_vec3_map(const SurfaceMesh::Property_map<VertexIndex, Eigen
   return {reinterpret_cast<const double*>(map.data()), 3, static_cast<Eigen::Index>(n)};
 }
 
-std::string attribute_name(const std::string& name) { return "v:attr:" + name; }
+std::string attribute_name(const std::string& name) { return vec3_attribute_property(name); }
 
 }  // namespace
 
@@ -113,11 +116,6 @@ void Mesh::remove_vec3_attribute(const std::string& name) {
   if (map.second) storage_->sm.remove_property_map(map.first);
 }
 
-Eigen::Map<Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>> Mesh::flag_attribute(const std::string& name) {
-  auto map = storage_->sm.add_property_map<VertexIndex, std::uint8_t>("v:flag:" + name, 0).first;
-  return {const_cast<std::uint8_t*>(map.data()), static_cast<Eigen::Index>(num_vertices())};
-}
-
 void Mesh::face_vertices(std::size_t f, std::vector<std::uint32_t>& out) const {
   const SurfaceMesh& sm = storage_->sm;
   out.clear();
@@ -146,6 +144,15 @@ void Mesh::bake() {
 void Mesh::recompute_rest_normals(bool also_current) {
   compute_vertex_normals(*this, rest_positions(), rest_normals());
   if (also_current) normals() = rest_normals();
+}
+
+std::vector<Eigen::Vector3f> color_array(const Mesh& mesh) {
+  const MeshStorage& s = mesh.storage();
+  std::vector<Eigen::Vector3f> colors;
+  if (!s.has_colors) return colors;
+  colors.resize(s.sm.number_of_vertices());
+  for (VertexIndex v : s.sm.vertices()) colors[v.idx()] = s.color[v];
+  return colors;
 }
 
 }  // namespace ffd

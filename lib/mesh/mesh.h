@@ -63,10 +63,6 @@ public:
   bool has_vec3_attribute(const std::string& name) const;
   void remove_vec3_attribute(const std::string& name);
 
-  /// A named per-vertex byte array owned by the mesh, created (zero) if missing; it
-  /// follows the vertices like vec3_attribute.
-  Eigen::Map<Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>> flag_attribute(const std::string& name);
-
   /// The vertex indices of face f, in order.
   void face_vertices(std::size_t f, std::vector<std::uint32_t>& out) const;
   /// All faces as index lists, in face order.

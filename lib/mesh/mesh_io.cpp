@@ -11,6 +11,7 @@
 #include "mesh/mesh_storage.h"
 #include "mesh/off_io.h"
 #include "mesh/ply_stl_io.h"
+#include "mesh/vertex_colors.h"
 
 namespace ffd {
 
@@ -86,15 +87,17 @@ void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh, const Wri
   if (mesh.has_file_normals() && format != MeshFormat::Obj && format != MeshFormat::Stl)
     normals = per_vertex_normals(mesh, options.transform_normal);
   const Eigen::Matrix3Xd* vertex_normals = normals.size() ? &normals : nullptr;
+  const std::vector<Eigen::Vector3f> own = options.colors.empty() ? color_array(mesh) : std::vector<Eigen::Vector3f>();
+  const VertexColors colors = !options.colors.empty() ? &options.colors : own.empty() ? nullptr : &own;
   switch (format) {
     case MeshFormat::Obj:
-      write_obj(os, mesh, options.transform_normal);
+      write_obj(os, mesh, options.transform_normal, colors);
       break;
     case MeshFormat::Off:
-      write_off(os, mesh, vertex_normals);
+      write_off(os, mesh, vertex_normals, colors);
       break;
     case MeshFormat::Ply:
-      write_ply(os, mesh, vertex_normals);
+      write_ply(os, mesh, vertex_normals, colors);
       break;
     case MeshFormat::Stl:
       write_stl(os, mesh);

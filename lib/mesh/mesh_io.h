@@ -5,6 +5,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "mesh/mesh.h"
 #include "mesh/obj_io.h"
@@ -25,6 +26,8 @@ Mesh read_mesh(const std::string& path);
 struct WriteOptions {
   /// Carries a rest-space file normal at a vertex into deformed space (empty: as stored).
   NormalTransform transform_normal;
+  /// One colour per vertex to write instead of the mesh's own (empty: the mesh's, if any).
+  std::vector<Eigen::Vector3f> colors;
 };
 
 /// Writes `mesh` in `format` to `os`.

@@ -55,6 +55,10 @@ struct MeshStorage {
   bool has_file_normals = false;
   bool has_colors = false;
   std::uint64_t topology_version = 0;
+  // Table sizes as read from the file: entries past these were made by refinement and are
+  // dropped again when no corner uses them.
+  std::size_t file_uv_count = 0;
+  std::size_t file_normal_count = 0;
 
   /// Binds the property maps by name (after construction or a copy).
   void bind();
@@ -67,6 +71,9 @@ inline Eigen::Map<Eigen::Matrix3Xd> point_array(SurfaceMesh& sm) {
   return {const_cast<double*>(reinterpret_cast<const double*>(sm.points().data())), 3,
           static_cast<Eigen::Index>(sm.number_of_vertices())};
 }
+
+/// The Surface_mesh property behind Mesh::vec3_attribute(name).
+inline std::string vec3_attribute_property(const std::string& name) { return "v:attr:" + name; }
 
 inline Eigen::Vector3d to_eigen(const Point3& p) { return {p.x(), p.y(), p.z()}; }
 inline Point3 to_point(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }

@@ -154,7 +154,8 @@ void append_state_change(std::string& out, const ObjState& from, const ObjState&
 
 }  // namespace
 
-void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal) {
+void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal,
+               VertexColors colors) {
   const MeshStorage& s = mesh.storage();
   const SurfaceMesh& sm = s.sm;
   std::string out;
@@ -169,8 +170,8 @@ void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transf
     append_number(out, p(1, i));
     out += ' ';
     append_number(out, p(2, i));
-    if (s.has_colors) {
-      const Eigen::Vector3f& c = s.color[VertexIndex(static_cast<std::uint32_t>(i))];
+    if (colors) {
+      const Eigen::Vector3f& c = (*colors)[static_cast<std::size_t>(i)];
       for (int k = 0; k < 3; ++k) {
         out += ' ';
         append_number(out, c[k]);

@@ -15,6 +15,7 @@
 
 #include "mesh/file_normals.h"
 #include "mesh/mesh.h"
+#include "mesh/vertex_colors.h"
 #include "mesh/soup.h"
 
 namespace ffd {
@@ -27,6 +28,8 @@ PolygonSoup read_obj(std::string_view text, const std::string& file);
 /// Writes `mesh` (current positions) as OBJ with shortest round-trip numbers. File normals
 /// go through `transform_normal` when given (each distinct (normal, vertex) pair once);
 /// a normal shared by corners at several vertices is written once per distinct result.
-void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal);
+/// Colours, when given, go on the v lines (v x y z r g b).
+void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal,
+               VertexColors colors);
 
 }  // namespace ffd

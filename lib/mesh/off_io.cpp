@@ -159,12 +159,12 @@ PolygonSoup read_off(std::string_view text, const std::string& file) {
   return soup;
 }
 
-void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals) {
+void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors) {
   const MeshStorage& s = mesh.storage();
   const SurfaceMesh& sm = s.sm;
   std::string out;
   out.reserve(48 * (mesh.num_vertices() + mesh.num_faces()) + 64);
-  if (s.has_colors) out += 'C';
+  if (colors) out += 'C';
   if (normals) out += 'N';
   out += "OFF\n";
   out += std::to_string(mesh.num_vertices()) + " " + std::to_string(mesh.num_faces()) + " 0\n";
@@ -179,9 +179,9 @@ void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* norma
         out += ' ';
         append_number(out, (*normals)(k, i));
       }
-    if (s.has_colors) {
+    if (colors) {
       // Integers 0..255, the common COFF form, so readers never guess the scale.
-      const Eigen::Vector3f& c = s.color[VertexIndex(static_cast<std::uint32_t>(i))];
+      const Eigen::Vector3f& c = (*colors)[static_cast<std::size_t>(i)];
       for (int k = 0; k < 3; ++k) {
         out += ' ';
         out += std::to_string(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));

@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "mesh/mesh.h"
+#include "mesh/vertex_colors.h"
 #include "mesh/soup.h"
 
 namespace ffd {
@@ -19,8 +20,8 @@ namespace ffd {
 /// Parses OFF text. \throw InputError "file:line: ..." on malformed or unsupported input.
 PolygonSoup read_off(std::string_view text, const std::string& file);
 
-/// Writes `mesh`'s current positions (and colours) as OFF with shortest round-trip
+/// Writes `mesh`'s current positions (and `colors`, COFF) as OFF with shortest round-trip
 /// numbers; `normals` (3 × n, may be null) adds per-vertex normals (NOFF).
-void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals);
+void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors);
 
 }  // namespace ffd

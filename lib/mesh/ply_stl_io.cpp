@@ -101,14 +101,14 @@ PolygonSoup read_stl(const std::string& path) {
   return soup;
 }
 
-void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals) {
+void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors) {
   const MeshStorage& s = mesh.storage();
   const SurfaceMesh& sm = s.sm;
   std::string out = "ply\nformat ascii 1.0\ncomment written by ffdtool\n";
   out += "element vertex " + std::to_string(mesh.num_vertices()) + "\n";
   out += "property double x\nproperty double y\nproperty double z\n";
   if (normals) out += "property double nx\nproperty double ny\nproperty double nz\n";
-  if (s.has_colors) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (colors) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   out += "element face " + std::to_string(mesh.num_faces()) + "\n";
   out += "property list uchar int vertex_indices\nend_header\n";
   const ConstVec3Array p = mesh.positions();
@@ -122,8 +122,8 @@ void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* norma
         out += ' ';
         append_number(out, (*normals)(k, i));
       }
-    if (s.has_colors) {
-      const Eigen::Vector3f& c = s.color[VertexIndex(static_cast<std::uint32_t>(i))];
+    if (colors) {
+      const Eigen::Vector3f& c = (*colors)[static_cast<std::size_t>(i)];
       for (int k = 0; k < 3; ++k)
         out += ' ' + std::to_string(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
     }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "mesh/mesh.h"
+#include "mesh/vertex_colors.h"
 #include "mesh/soup.h"
 
 namespace ffd {
@@ -18,8 +19,8 @@ PolygonSoup read_ply(const std::string& path);
 PolygonSoup read_stl(const std::string& path);
 
 /// Writes ASCII PLY with double coordinates (round-trip exact), optional per-vertex
-/// normals (3 × n) and the mesh's colours.
-void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals);
+/// normals (3 × n) and `colors` (uchar red green blue).
+void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors);
 
 /// Writes ASCII STL; polygons are split into triangle fans (STL holds only triangles).
 void write_stl(std::ostream& os, const Mesh& mesh);

@@ -4,7 +4,7 @@
 
 namespace ffd {
 
-std::string WarpStack::input_name(std::size_t k, const char* what) const {
+std::string WarpStack::input_name(std::size_t k, const char* what) {
   return "stack:" + std::to_string(k) + ":" + what;
 }
 
@@ -62,8 +62,6 @@ WarpStack::Update WarpStack::update(Mesh& mesh, std::size_t k) {
                      top ? mesh.normals() : input_nrm(j + 1), counts);
   }
   changed.clear_changes();
-  auto moved = mesh.flag_attribute("moved");
-  for (std::uint32_t v : ids) moved[v] = 1;
   result.moved = ids.size();
   result.folded = counts.folded;
   return result;

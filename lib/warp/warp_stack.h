@@ -37,7 +37,7 @@ public:
   const std::string& name(std::size_t k) const { return names_[k]; }
 
   /// Re-evaluates the vertices that warp `k` changed since its last update, through k and
-  /// every warp above it, then clears k's changes. Sets the mesh flag "moved" on them.
+  /// every warp above it, then clears k's changes.
   Update update(Mesh& mesh, std::size_t k);
   /// Update for the warp called `name`.
   Update update(Mesh& mesh, const std::string& name);
@@ -54,8 +54,12 @@ public:
   /// drops every warp. Returns the names of the warps dropped.
   std::vector<std::string> bake(Mesh& mesh);
 
+  /// Name of the mesh attribute (Mesh::vec3_attribute) holding warp k's input positions
+  /// (k >= 1; warp 0 reads the rest positions).
+  static std::string input_attribute(std::size_t k) { return input_name(k, "pos"); }
+
 private:
-  std::string input_name(std::size_t k, const char* what) const;
+  static std::string input_name(std::size_t k, const char* what);
   std::vector<std::string> names_;
   std::vector<std::unique_ptr<Warp>> warps_;
 };
