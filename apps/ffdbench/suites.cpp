@@ -5,6 +5,7 @@ namespace ffd::bench {
 const std::vector<Suite>& suites() {
   static const std::vector<Suite> all = {
       {"ffd", "lattice FFD throughput against the straightforward triple sum", bench_ffd},
+      {"remesh", "adaptive remeshing: error against the true surface, speed, memory", bench_remesh},
   };
   return all;
 }

@@ -9,6 +9,7 @@ const std::vector<Op>& op_table() {
       {"lattice", check_lattice, run_lattice},
       {"move", check_move, run_move},
       {"drag", check_drag, run_drag},
+      {"remesh", check_remesh, run_remesh},
       {"save", check_save, run_save},
   };
   return table;

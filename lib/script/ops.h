@@ -32,12 +32,20 @@ void check_move(ScriptChecks&, const nlohmann::json&, const std::string&);
 void run_move(Scene&, const nlohmann::json&, StepContext&);
 void check_drag(ScriptChecks&, const nlohmann::json&, const std::string&);
 void run_drag(Scene&, const nlohmann::json&, StepContext&);
+// Adaptive remeshing (ops_remesh.cpp)
+void check_remesh(ScriptChecks&, const nlohmann::json&, const std::string&);
+void run_remesh(Scene&, const nlohmann::json&, StepContext&);
 // Output ops (ops_save.cpp)
 void check_save(ScriptChecks&, const nlohmann::json&, const std::string&);
 void run_save(Scene&, const nlohmann::json&, StepContext&);
 
 /// Writes the scene's current mesh to `relative` (inside the output folder) as a staged
-/// file committed at the end of the run; returns the bytes written.
-std::size_t stage_mesh(Scene& scene, const std::string& relative);
+/// file committed at the end of the run, with `options` (Scene::write_options() and
+/// any replacement colours); returns the bytes written.
+std::size_t stage_mesh(Scene& scene, const std::string& relative, const WriteOptions& options);
+/// The same with the scene's own write options.
+inline std::size_t stage_mesh(Scene& scene, const std::string& relative) {
+  return stage_mesh(scene, relative, scene.write_options());
+}
 
 }  // namespace ffd

@@ -126,7 +126,7 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
 
   Stopwatch write_clock;
   const std::string output_name = fs::path(options.output).filename().string();
-  stage_mesh(scene, output_name);
+  stage_mesh(scene, output_name, scene.write_options());
   const double write_ms = write_clock.ms();
 
   double steps_ms = 0;

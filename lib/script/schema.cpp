@@ -26,6 +26,7 @@ const char* kSchema = R"json({
           {"$ref": "#/$defs/lattice"},
           {"$ref": "#/$defs/move"},
           {"$ref": "#/$defs/drag"},
+          {"$ref": "#/$defs/remesh"},
           {"$ref": "#/$defs/save"}
         ]
       }
@@ -153,6 +154,34 @@ const char* kSchema = R"json({
             "to": {"$ref": "#/$defs/vec3", "description": "Where the point must go."}}}}
       }
     },
+    "remesh": {
+      "type": "object",
+      "title": "remesh",
+      "description": "Adaptive refinement and reversible decimation after the deformations so far (Gain & Dodgson section 4). Polygon faces are triangulated first.",
+      "required": ["op"],
+      "additionalProperties": false,
+      "properties": {
+        "op": {"const": "remesh"},
+        "theta_max_deg": {"type": "number", "minimum": 0, "maximum": 90, "default": 25.7,
+                          "description": "Refine an edge with a deformed endpoint when its deformed endpoint normals diverge by more than this."},
+        "theta_min_deg": {"type": "number", "minimum": 0, "maximum": 90, "default": 20.0,
+                          "description": "Decimation: endpoint normals diverging by less than this (must be below theta_max_deg)."},
+        "l_max": {"oneOf": [{"type": "number", "minimum": 0}, {"type": "string", "const": "auto"}], "default": "auto",
+                  "description": "Longest edge where a lattice can act, in mesh units; \"auto\": the smallest lattice cell extent."},
+        "max_level": {"type": "integer", "minimum": 1, "maximum": 30, "default": 8,
+                      "description": "Refinement level no vertex exceeds; edges it stops are counted."},
+        "trigger": {"enum": ["normal", "midpoint"], "default": "normal",
+                    "description": "normal: endpoint normal divergence (the paper's choice); midpoint: Greissmair & Purgathofer's midpoint distance, with thresholds L·tan(theta/4) for an edge of length L, or the tolerances below."},
+        "tolerance": {"type": "number", "minimum": 0,
+                      "description": "Midpoint trigger: refine an edge whose chord midpoint stands farther than this from the true deformed surface (a length: bounds the distance to the true surface instead of angles)."},
+        "tolerance_min": {"type": "number", "minimum": 0,
+                          "description": "Midpoint trigger with a tolerance: decimate below this distance (default tolerance / 2)."}
+      }
+    },
+    "save": {"type": "string", "minLength": 1,
+                 "description": "Writes the mesh after every frame, '{i}' replaced by the frame's index (0-based); relative to the output folder."}
+      }
+    },
     "save": {
       "type": "object",
       "title": "save",
@@ -161,7 +190,9 @@ const char* kSchema = R"json({
       "additionalProperties": false,
       "properties": {
         "op": {"const": "save"},
-        "path": {"type": "string", "minLength": 1, "description": "Relative to the output folder (the folder of -o)."}
+        "path": {"type": "string", "minLength": 1, "description": "Relative to the output folder (the folder of -o)."},
+        "colors": {"enum": ["mesh", "level"], "default": "mesh",
+                   "description": "mesh: the mesh's own vertex colours, if any; level: each vertex's refinement level as a colour (grey = input, blue to red = deeper)."}
       }
     }
   }

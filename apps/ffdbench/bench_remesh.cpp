@@ -1,0 +1,301 @@
+// Adaptive refinement and decimation (Gain & Dodgson section 4): quality against the true
+// deformed surface, speed, and the memory the level bookkeeping costs.
+//
+// Quality: the true deformed surface is the same warp applied to a dense uniform midpoint
+// subdivision of the rest mesh (midpoints stay on the rest mesh's flat triangles, so this
+// samples F(rest surface) as densely as we like). Each candidate is compared with it by
+// the two-sided Hausdorff distance and the mean vertex-to-surface distance:
+//   (a) no refinement: the warp applied to the input mesh;
+//   (b) uniform: midpoint subdivision of the rest mesh, as many times as it takes to reach
+//       at least the adaptive face count, then the warp;
+//   (c) adaptive: the warp and one remesh step with the default thresholds.
+// Target: at equal (or larger, for uniform) face count, Hausdorff(c) <= 0.5 Hausdorff(b).
+// Distances are measured between dense samples and surfaces with CGAL's AABB tree: from
+// every vertex, edge midpoint and face centroid of one mesh to the other surface, both
+// ways (the truth's samples are 4x denser per level than the finest candidate).
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+
+#include <map>
+#include <memory>
+
+#include "bench.h"
+#include "common/timer.h"
+#include "mesh/build_mesh.h"
+#include "mesh/mesh_storage.h"
+#include "remesh/adaptive_remesher.h"
+#include "warp/bspline_lattice.h"
+#include "warp/warp_stack.h"
+
+namespace ffd::bench {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+// Splits every triangle into four at its rest-space edge midpoints (rest positions become
+// the new mesh's positions: the warp is applied afterwards).
+Mesh midpoint_subdivision(const Mesh& mesh) {
+  PolygonSoup soup;
+  const auto rest = mesh.rest_positions();
+  for (Eigen::Index v = 0; v < rest.cols(); ++v) soup.positions.push_back(rest.col(v));
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+  const auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+    const auto key = std::minmax(a, b);
+    auto [it, inserted] = mid.try_emplace(key, 0);
+    if (inserted) {
+      soup.positions.push_back(0.5 * (soup.positions[a] + soup.positions[b]));
+      it->second = static_cast<std::uint32_t>(soup.positions.size() - 1);
+    }
+    return it->second;
+  };
+  for (const auto& f : mesh.faces()) {
+    const std::uint32_t ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
+    soup.faces.push_back({{f[0], ab, ca}});
+    soup.faces.push_back({{f[1], bc, ab}});
+    soup.faces.push_back({{f[2], ca, bc}});
+    soup.faces.push_back({{ab, bc, ca}});
+  }
+  return build_mesh(soup, "subdivision");
+}
+
+// A deformation: lattice over the mesh's padded box, then point moves.
+struct Deformation {
+  std::string name;
+  void (*apply)(BSplineLattice&);
+};
+
+// Extrude: the movable points in the upper-front quarter push out along +z.
+void extrude(BSplineLattice& l) {
+  for (std::size_t f = 0; f < l.num_points(); ++f) {
+    const Index3 ijk = l.index(f);
+    if (!l.movable(ijk) || ijk[1] < 4 || ijk[2] < 4) continue;
+    l.move_point(ijk, l.point(ijk) + Eigen::Vector3d(0, 0, 0.18 * l.box().extents()[2]));
+  }
+}
+
+// Twist: each layer along y turns about the box's vertical axis by up to 40 degrees.
+void twist(BSplineLattice& l) {
+  const Eigen::Vector3d centre = l.box().to_world(Eigen::Vector3d(0.5, 0.5, 0.5));
+  int lo, hi;
+  l.movable_span(1, lo, hi);
+  for (std::size_t f = 0; f < l.num_points(); ++f) {
+    const Index3 ijk = l.index(f);
+    if (!l.movable(ijk)) continue;
+    const double t = hi > lo ? double(ijk[1] - lo) / (hi - lo) : 1.0;
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(t * 40 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    const Eigen::Vector3d p = l.point(ijk);
+    l.move_point(ijk, centre + R * (p - centre));
+  }
+}
+
+// Puts `mesh` under a fresh 8×8×8 cubic lattice with `deform` applied; returns the stack.
+std::unique_ptr<WarpStack> deform(Mesh& mesh, const Parallelepiped& box, const Deformation& d) {
+  auto stack = std::make_unique<WarpStack>();
+  auto owned = std::make_unique<BSplineLattice>(box, Index3{8, 8, 8}, 3);
+  BSplineLattice* lattice = owned.get();
+  stack->push(mesh, "l", std::move(owned));
+  d.apply(*lattice);
+  stack->update(mesh, "l");
+  return stack;
+}
+
+// Distances from dense samples of one mesh to another's surface (CGAL AABB tree).
+class SurfaceDistance {
+public:
+  explicit SurfaceDistance(const Mesh& surface)
+      : sm_(surface.storage().sm), tree_(faces(sm_).first, faces(sm_).second, sm_) {
+    tree_.accelerate_distance_queries();
+  }
+  // Largest and mean distance of `from`'s vertices (and, with `dense`, its edge midpoints
+  // and face centroids) to the surface.
+  std::pair<double, double> from(const Mesh& from, bool dense) const {
+    const SurfaceMesh& sm = from.storage().sm;
+    double worst = 0, sum = 0;
+    std::size_t n = 0;
+    const auto sample = [&](const Point3& p) {
+      const double d = std::sqrt(tree_.squared_distance(p));
+      worst = std::max(worst, d);
+      sum += d;
+      ++n;
+    };
+    for (VertexIndex v : sm.vertices()) sample(sm.point(v));
+    if (dense) {
+      for (EdgeIndex e : sm.edges()) sample(CGAL::midpoint(sm.point(sm.vertex(e, 0)), sm.point(sm.vertex(e, 1))));
+      for (FaceIndex f : sm.faces()) {
+        const HalfedgeIndex h = sm.halfedge(f);
+        sample(CGAL::centroid(sm.point(sm.source(h)), sm.point(sm.target(h)), sm.point(sm.target(sm.next(h)))));
+      }
+    }
+    return {worst, sum / std::max<std::size_t>(n, 1)};
+  }
+
+private:
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  const SurfaceMesh& sm_;
+  Tree tree_;
+};
+
+// Two-sided Hausdorff and mean distance between a candidate and the truth: candidate
+// samples (vertices, edge midpoints, centroids) to the true surface, and the truth's
+// vertices (a denser sampling of it) to the candidate.
+json error_row(const std::string& method, const Mesh& candidate, const Mesh& truth,
+               const SurfaceDistance& to_truth, double diag) {
+  const auto [a, mean_a] = to_truth.from(candidate, true);
+  const auto [b, mean_b] = SurfaceDistance(candidate).from(truth, false);
+  const double hausdorff = std::max(a, b);
+  return {{"method", method}, {"faces", candidate.num_faces()}, {"hausdorff", hausdorff},
+          {"mean", 0.5 * (mean_a + mean_b)}, {"hausdorff_rel_diag", hausdorff / diag}};
+}
+
+void quality(Context& ctx, json& rows) {
+  const std::vector<std::string> names =
+      ctx.quick ? std::vector<std::string>{"bunny.obj"}
+                : std::vector<std::string>{"bunny.obj", "armadillo.off", "refined_elephant.off"};
+  const std::vector<Deformation> deformations = {{"extrude", extrude}, {"twist", twist}};
+  // Thresholds swept to compare at equal face counts (θmin = 0.75 θmax).
+  const std::vector<double> thetas = {25.7, 15, 10, 6, 4};
+  for (const std::string& name : names) {
+    const Mesh input = load(ctx, name);
+    const Parallelepiped box = fit_aabb(input.positions(), {}, 0.05);
+    const double diag = box.extents().norm();
+    // Uniform midpoint subdivisions of the rest mesh: 1 and 2 levels for the candidates,
+    // 3 (small meshes) or 2 levels beyond the input for the truth.
+    std::vector<Mesh> uniform;
+    uniform.push_back(input.clone());
+    const int truth_level = input.num_faces() < 20000 ? 3 : 2;
+    for (int level = 1; level <= truth_level; ++level) uniform.push_back(midpoint_subdivision(uniform.back()));
+    for (const Deformation& d : deformations) {
+      Mesh truth = uniform[truth_level].clone();
+      deform(truth, box, d);
+      const SurfaceDistance to_truth(truth);
+      json methods = json::array();
+      Mesh none = input.clone();
+      deform(none, box, d);
+      methods.push_back(error_row("none", none, truth, to_truth, diag));
+      std::vector<std::pair<std::size_t, double>> uniform_points;
+      for (int level = 1; level < truth_level; ++level) {
+        Mesh u = uniform[level].clone();
+        deform(u, box, d);
+        methods.push_back(error_row("uniform x" + std::to_string(level), u, truth, to_truth, diag));
+        uniform_points.emplace_back(u.num_faces(), methods.back()["hausdorff"].get<double>());
+      }
+      std::vector<std::tuple<std::string, std::size_t, double>> adaptive_points;
+      for (RemeshTrigger trigger : {RemeshTrigger::Normal, RemeshTrigger::Midpoint})
+        for (double theta : thetas) {
+          Mesh a = input.clone();
+          auto stack = deform(a, box, d);
+          RemeshOptions options;
+          options.theta_max_deg = theta;
+          options.theta_min_deg = 0.75 * theta;
+          options.trigger = trigger;
+          const RemeshStats stats = adaptive_remesh(a, *stack, options);
+          char label[64];
+          std::snprintf(label, sizeof label, "adaptive %s %.3g deg", trigger == RemeshTrigger::Normal ? "normal" : "midpoint",
+                        theta);
+          methods.push_back(error_row(label, a, truth, to_truth, diag));
+          methods.back()["refinements"] = stats.refinements;
+          methods.back()["max_level_hits"] = stats.max_level_hits;
+          adaptive_points.emplace_back(label, a.num_faces(), methods.back()["hausdorff"].get<double>());
+        }
+      // The midpoint trigger with absolute distance tolerances (fractions of the diagonal).
+      for (double fraction : {4e-4, 2e-4, 1e-4, 5e-5, 2.5e-5, 1.25e-5}) {
+        Mesh a = input.clone();
+        auto stack = deform(a, box, d);
+        RemeshOptions options;
+        options.trigger = RemeshTrigger::Midpoint;
+        options.tolerance = fraction * diag;
+        options.max_level = 16;
+        const RemeshStats stats = adaptive_remesh(a, *stack, options);
+        char label[64];
+        std::snprintf(label, sizeof label, "adaptive midpoint tol %.3g diag", fraction);
+        methods.push_back(error_row(label, a, truth, to_truth, diag));
+        methods.back()["refinements"] = stats.refinements;
+        methods.back()["max_level_hits"] = stats.max_level_hits;
+        adaptive_points.emplace_back(label, a.num_faces(), methods.back()["hausdorff"].get<double>());
+      }
+      // At equal face count: for each uniform level, the best adaptive run with no more faces.
+      json equal = json::array();
+      for (const auto& [faces, hausdorff] : uniform_points) {
+        const std::tuple<std::string, std::size_t, double>* best = nullptr;
+        for (const auto& p : adaptive_points)
+          if (std::get<1>(p) <= faces && (!best || std::get<2>(p) < std::get<2>(*best))) best = &p;
+        if (!best) continue;
+        equal.push_back({{"uniform_faces", faces}, {"adaptive", std::get<0>(*best)},
+                         {"adaptive_faces", std::get<1>(*best)},
+                         {"adaptive_over_uniform_hausdorff", std::get<2>(*best) / hausdorff}});
+        std::fprintf(stderr, "  quality %s %s: %zu uniform faces, %s with %zu faces: Hausdorff ratio %.3f\n",
+                     name.c_str(), d.name.c_str(), faces, std::get<0>(*best).c_str(), std::get<1>(*best),
+                     std::get<2>(*best) / hausdorff);
+      }
+      rows.push_back({{"mesh", name}, {"deformation", d.name}, {"input_faces", input.num_faces()},
+                      {"truth_faces", truth.num_faces()}, {"methods", methods}, {"at_equal_faces", equal}});
+    }
+  }
+}
+
+void speed(Context& ctx, json& out) {
+  const Mesh input = load(ctx, ctx.quick ? "bunny.obj" : "refined_elephant.off");
+  const Parallelepiped box = fit_aabb(input.positions(), {}, 0.05);
+  // One whole FFD + remesh step: move the lattice, re-evaluate, refine and decimate.
+  RemeshStats step_stats;
+  double update_ms = 0;
+  const double step_ms = median_ms(ctx.repeats, [&] {
+    Mesh mesh = input.clone();
+    WarpStack stack;
+    auto owned = std::make_unique<BSplineLattice>(box, Index3{8, 8, 8}, 3);
+    BSplineLattice* lattice = owned.get();
+    stack.push(mesh, "l", std::move(owned));
+    Stopwatch clock;
+    extrude(*lattice);
+    stack.update(mesh, "l");
+    update_ms = clock.ms();
+    step_stats = adaptive_remesh(mesh, stack, RemeshOptions{});
+  });
+  const double uniform_ms = median_ms(ctx.repeats, [&] { midpoint_subdivision(input); });
+  // Decimation speed: flatten what the extrusion refined.
+  Mesh mesh = input.clone();
+  auto stack = deform(mesh, box, {"extrude", extrude});
+  adaptive_remesh(mesh, *stack, RemeshOptions{});
+  auto* lattice = dynamic_cast<BSplineLattice*>(&stack->warp(0));
+  for (std::size_t f = 0; f < lattice->num_points(); ++f) {
+    const Index3 ijk = lattice->index(f);
+    if (lattice->movable(ijk)) lattice->move_point(ijk, lattice->rest_point(ijk));
+  }
+  stack->update(mesh, "l");
+  const RemeshStats back = adaptive_remesh(mesh, *stack, RemeshOptions{});
+
+  // Level bookkeeping: one byte per vertex (level), one per edge (level), four per face
+  // (the first vertex, so unwound faces come back as written).
+  const double bytes_per_face =
+      (double(mesh.num_vertices()) * 1 + double(mesh.num_edges()) * 1 + double(mesh.num_faces()) * 4) /
+      double(mesh.num_faces());
+  // The whole step, ms: the lattice update plus test, refine, decimate.
+  const double step_parts = update_ms + step_stats.ms_test + step_stats.ms_refine + step_stats.ms_decimate;
+  out = {{"mesh", ctx.quick ? "bunny.obj" : "refined_elephant.off"},
+         {"faces", input.num_faces()},
+         {"ffd_plus_remesh_ms", step_ms},
+         {"of_which_ffd_update_ms", update_ms},
+         {"of_which_remesh_ms", step_parts - update_ms},
+         {"uniform_subdivision_ms", uniform_ms},
+         {"step_over_uniform_subdivision", step_ms / uniform_ms},
+         {"refinements", step_stats.refinements},
+         {"edges_tested_per_s", step_stats.edges_tested / (step_stats.ms_test + step_stats.ms_refine) * 1e3},
+         {"refinements_per_s", step_stats.refinements / step_stats.ms_refine * 1e3},
+         {"decimations", back.decimations},
+         {"decimations_per_s", back.decimations / back.ms_decimate * 1e3},
+         {"level_bytes_per_face", bytes_per_face}};
+}
+
+}  // namespace
+
+void bench_remesh(Context& ctx) {
+  json quality_rows = json::array();
+  quality(ctx, quality_rows);
+  json speed_row;
+  speed(ctx, speed_row);
+  ctx.out["remesh"] = {{"quality", quality_rows}, {"speed", speed_row}};
+}
+
+}  // namespace ffd::bench
