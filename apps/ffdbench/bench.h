@@ -43,5 +43,6 @@ Mesh subdivided(const Mesh& mesh, std::size_t min_vertices);
 // Suites (one file each).
 void bench_ffd(Context& ctx);
 void bench_remesh(Context& ctx);
+void bench_bcm(Context& ctx);
 
 }  // namespace ffd::bench

@@ -11,6 +11,8 @@ const std::vector<Op>& op_table() {
       {"drag", check_drag, run_drag},
       {"remesh", check_remesh, run_remesh},
       {"save", check_save, run_save},
+      {"bcm", check_bcm, run_bcm},
+      {"transform", check_transform, run_transform},
   };
   return table;
 }

@@ -35,6 +35,11 @@ void run_drag(Scene&, const nlohmann::json&, StepContext&);
 // Adaptive remeshing (ops_remesh.cpp)
 void check_remesh(ScriptChecks&, const nlohmann::json&, const std::string&);
 void run_remesh(Scene&, const nlohmann::json&, StepContext&);
+// Boundary-constraint modeling ops (ops_bcm.cpp)
+void check_bcm(ScriptChecks&, const nlohmann::json&, const std::string&);
+void run_bcm(Scene&, const nlohmann::json&, StepContext&);
+void check_transform(ScriptChecks&, const nlohmann::json&, const std::string&);
+void run_transform(Scene&, const nlohmann::json&, StepContext&);
 // Output ops (ops_save.cpp)
 void check_save(ScriptChecks&, const nlohmann::json&, const std::string&);
 void run_save(Scene&, const nlohmann::json&, StepContext&);

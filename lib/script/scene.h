@@ -2,6 +2,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,12 @@
 
 namespace ffd {
 
+class BcmEditor;
+/// Deletes a BcmEditor (ops_bcm.cpp), so that this header needs only its name.
+struct BcmEditorDelete {
+  void operator()(BcmEditor* editor) const;
+};
+
 struct Scene {
   Mesh mesh;
   WarpStack stack;
@@ -23,6 +30,8 @@ struct Scene {
   std::map<std::string, Lattice*> lattices;
   /// Lattices frozen into the rest positions by a surface edit: name -> step pointer.
   std::map<std::string, std::string> baked;
+  /// Boundary-constraint editors by name (bcm steps), driven by transform steps.
+  std::map<std::string, std::unique_ptr<BcmEditor, BcmEditorDelete>> editors;
 
   std::string script_path;
   std::string script_folder;

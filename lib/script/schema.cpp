@@ -27,7 +27,9 @@ const char* kSchema = R"json({
           {"$ref": "#/$defs/move"},
           {"$ref": "#/$defs/drag"},
           {"$ref": "#/$defs/remesh"},
-          {"$ref": "#/$defs/save"}
+          {"$ref": "#/$defs/save"},
+          {"$ref": "#/$defs/bcm"},
+          {"$ref": "#/$defs/transform_step"}
         ]
       }
     }
@@ -178,7 +180,57 @@ const char* kSchema = R"json({
                           "description": "Midpoint trigger with a tolerance: decimate below this distance (default tolerance / 2)."}
       }
     },
-    "save": {"type": "string", "minLength": 1,
+    "bcm": {
+      "type": "object",
+      "title": "bcm",
+      "description": "Sets up a boundary-constraint modeling editor (Botsch & Kobbelt): the support bends as the solution of Δ^k p = 0 between the fixed surface around it and its handles, which transform steps then move. Bakes the warp stack into the mesh first; factorizes and precomputes the handles' basis functions once.",
+      "required": ["op", "name", "support", "handles"],
+      "additionalProperties": false,
+      "properties": {
+        "op": {"const": "bcm"},
+        "name": {"type": "string", "minLength": 1,
+                 "description": "Name used by transform steps; a later bcm step with the same name replaces the editor."},
+        "support": {"$ref": "#/$defs/selection",
+                    "description": "The vertices the edit may move, handles included; every other vertex stays fixed."},
+        "handles": {"type": "array", "minItems": 1, "items": {"$ref": "#/$defs/bcm_handle"},
+                    "description": "Handle regions inside the support, each moved as a whole by a 9-dof transform; a handle never moved holds its part of the surface in place."},
+        "k": {"type": "integer", "minimum": 1, "maximum": 3, "default": 3,
+              "description": "Order of Δ^k p = 0: 1 membrane (least area), 2 thin plate (least bending), 3 least curvature variation."},
+        "continuity": {"type": "object", "additionalProperties": false,
+                       "description": "Boundary smoothness c in [0, k-1], blended continuously (C^0 hinged .. C^(k-1) clamped); each defaults to k-1.",
+                       "properties": {
+                         "outer": {"type": "number", "minimum": 0, "maximum": 2, "description": "At the support's boundary with the fixed surface."},
+                         "inner": {"type": "number", "minimum": 0, "maximum": 2, "description": "At the handles' boundaries."}}},
+        "laplacian": {"enum": ["cotan", "uniform", "anisotropic"], "default": "cotan",
+                      "description": "cotan: cotangent weights with mixed Voronoi areas on the surface at setup. uniform: 1/valence. anisotropic: cotangent weights on the support's conformal map scaled to equal diameters, so an elongated support bends with even slope (needs a disk-shaped support)."},
+        "detail": {"type": "boolean", "default": true,
+                   "description": "Multiresolution: edit the support's smooth base (its BCM fairing) and carry the surface detail along as displacements in the base's local frames. false: the support becomes the plain BCM surface."}
+      }
+    },
+    "bcm_handle": {
+      "type": "object",
+      "required": ["name", "select"],
+      "additionalProperties": false,
+      "properties": {
+        "name": {"type": "string", "minLength": 1, "description": "Name used by transform steps."},
+        "select": {"$ref": "#/$defs/selection", "description": "The handle's vertices; all inside the support."}
+      }
+    },
+    "transform_step": {
+      "type": "object",
+      "title": "transform",
+      "description": "Moves a handle of a bcm editor: one pose (`transform`) or a sequence (`frames`), each costing one small dense product. A pose is relative to where the handle was when the editor was set up; `center` defaults to the handle's centroid then.",
+      "required": ["op", "editor"],
+      "additionalProperties": false,
+      "oneOf": [{"required": ["transform"]}, {"required": ["frames"]}],
+      "properties": {
+        "op": {"const": "transform"},
+        "editor": {"type": "string", "description": "Name of a bcm editor set up earlier."},
+        "handle": {"type": "string", "description": "Name of the editor's handle; may be left out when it has only one."},
+        "transform": {"$ref": "#/$defs/transform"},
+        "frames": {"type": "array", "minItems": 1, "items": {"$ref": "#/$defs/transform"},
+                   "description": "Poses applied in order; the handle keeps the last."},
+        "save": {"type": "string", "minLength": 1,
                  "description": "Writes the mesh after every frame, '{i}' replaced by the frame's index (0-based); relative to the output folder."}
       }
     },

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -38,6 +39,8 @@ public:
 
   std::map<std::string, LatticeShape> lattices;
   std::set<std::string> editors;
+  /// Handle names of each editor, in order (bcm steps record them, transform steps check).
+  std::map<std::string, std::vector<std::string>> editor_handles;
 
   /// The lattice a step names in its "lattice" key; fails if not created earlier.
   const LatticeShape& lattice_of(const nlohmann::json& step, const std::string& pointer) const;

@@ -1,0 +1,41 @@
+// Options of a boundary-constraint editor (Botsch & Kobbelt), mapped 1:1 to the `bcm`
+// script step, and the error its setup throws for bad input.
+#pragma once
+
+#include <string>
+
+#include "common/errors.h"
+
+namespace ffd {
+
+enum class LaplacianKind {
+  Cotan,        // eq. 4: cotangent weights, mixed Voronoi areas, on the surface at setup
+  Uniform,      // 1/valence umbrella operator
+  Anisotropic,  // cotangent weights on the support's conformal map scaled to equal diameters
+};
+
+struct BcmOptions {
+  /// Order of the energy: Δ^k p = 0 (1 membrane, 2 thin plate, 3 minimal curvature variation).
+  int k = 3;
+  /// Boundary smoothness c ∈ [0, k−1] at the outer (fixed) and inner (handle) boundary;
+  /// negative means k − 1 (C^(k−1), the clamped solution).
+  double outer_continuity = -1;
+  double inner_continuity = -1;
+  LaplacianKind laplacian = LaplacianKind::Cotan;
+  /// Multiresolution editing (section 4): edit a smooth base, carry the support's detail.
+  bool detail = true;
+};
+
+/// Bad input found while setting an editor up. `key` is the JSON pointer of the script key
+/// at fault relative to the step ("/support", "/handles/1/select", "/laplacian"), so the
+/// op can name the place; what() is the message without a place.
+class BcmInputError : public InputError {
+public:
+  BcmInputError(std::string key, const std::string& message) : InputError(message), key_(std::move(key)) {}
+  const std::string& key() const { return key_; }
+
+private:
+  std::string key_;
+};
+
+}  // namespace ffd
