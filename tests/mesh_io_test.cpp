@@ -211,8 +211,7 @@ ObjModel random_obj(int n, std::uint64_t seed) {
     } else if (f == 30) {
       set_state("usemtl", "red", &ObjState::material);  // back to an earlier state
     }
-    SoupFace face;
-    face.vertices = faces[f];
+    SoupFace face{faces[f], {}, {}};
     face.group = static_cast<std::int32_t>(s.groups.size()) - 1;
     const int syntax = static_cast<int>(f % 4);  // v, v/t, v//n, v/t/n
     os << "f";
@@ -322,8 +321,7 @@ OffModel random_off(int n, std::uint64_t seed, bool colors, bool normals) {
     os << f.size();
     for (std::uint32_t v : f) os << " " << v;
     os << "\n";
-    SoupFace face;
-    face.vertices = f;
+    SoupFace face{f, {}, {}};
     if (normals) face.normals.assign(f.begin(), f.end());
     s.faces.push_back(face);
   }
@@ -424,8 +422,7 @@ TEST(MeshIoAgreement, CgalReadsOurOffTheSame) {
   PolygonSoup soup;
   soup.positions = random_positions(12, rng);
   for (const auto& f : polygon_faces(12)) {
-    SoupFace face;
-    face.vertices = f;
+    SoupFace face{f, {}, {}};
     soup.faces.push_back(face);
   }
   const Mesh mesh = build_mesh(soup, "soup");
@@ -452,8 +449,7 @@ Mesh random_polygon_mesh(int n, std::uint64_t seed) {
   PolygonSoup soup;
   soup.positions = random_positions(n, rng);
   for (const auto& f : polygon_faces(n)) {
-    SoupFace face;
-    face.vertices = f;
+    SoupFace face{f, {}, {}};
     soup.faces.push_back(face);
   }
   return build_mesh(soup, "soup");
@@ -621,8 +617,7 @@ TEST(BuildMesh, KeepsVertexOrderAndEachFacesFirstVertex) {
     for (std::uint32_t v : f) face.push_back(label[v]);
     std::rotate(face.begin(), face.begin() + rng() % face.size(), face.end());
     expect.push_back(face);
-    SoupFace sf;
-    sf.vertices = face;
+    SoupFace sf{face, {}, {}};
     soup.faces.push_back(sf);
   }
   std::shuffle(soup.faces.begin(), soup.faces.end(), rng);  // any face order

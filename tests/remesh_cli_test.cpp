@@ -35,7 +35,7 @@ TEST_P(Figure7Test, MatchesTheCheckedInMeshesAndDecimatesWhatExtrusionRefined) {
                      nullptr, &err),
             0)
       << err;
-  for (const std::string out : {f.name + "_extruded.obj", f.name + ".obj"}) {
+  for (const std::string& out : {f.name + "_extruded.obj", f.name + ".obj"}) {
     std::string report;
     EXPECT_EQ(run_tool("compare " + dir + "/" + out + " " + data("expected/" + out) + " --tolerance 1e-9", &report),
               0)

@@ -69,9 +69,13 @@ void expect_trigger_free(const Mesh& mesh, const Parallelepiped& box, const Reme
     const Eigen::Vector3d pb = mesh.positions().col(b.idx()), pc = mesh.positions().col(c.idx());
     const bool inside = Lattice::inside(box.to_local(mesh.rest_positions().col(b.idx()))) ||
                         Lattice::inside(box.to_local(mesh.rest_positions().col(c.idx())));
-    if (inside) EXPECT_LE((pb - pc).norm(), stats.l_max * (1 + 1e-12));
+    if (inside) {
+      EXPECT_LE((pb - pc).norm(), stats.l_max * (1 + 1e-12));
+    }
     const bool moved = (b.idx() < deformed.size() && deformed[b.idx()]) || (c.idx() < deformed.size() && deformed[c.idx()]);
-    if (moved) EXPECT_LE(1 - mesh.normals().col(b.idx()).dot(mesh.normals().col(c.idx())), eps_max * (1 + 1e-9));
+    if (moved) {
+      EXPECT_LE(1 - mesh.normals().col(b.idx()).dot(mesh.normals().col(c.idx())), eps_max * (1 + 1e-9));
+    }
   }
 }
 
@@ -137,7 +141,7 @@ TEST(Remesh, LevelsFollowThePaper) {
   // One long edge in a two-triangle square, split by length only.
   PolygonSoup soup;
   soup.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-  soup.faces = {{{0, 1, 2}}, {{0, 2, 3}}};
+  soup.faces = {{{0, 1, 2}, {}, {}}, {{0, 2, 3}, {}, {}}};
   Deformed s(build_mesh(soup, "square"), Parallelepiped::from_min_max(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(2, 2, 1)),
           {4, 4, 4});
   RemeshOptions options;
@@ -178,7 +182,7 @@ TEST(Remesh, DeformedRegionMeetsBothTriggersAfterwards) {
       deformed[v] = (s.mesh.positions().col(v) - s.mesh.rest_positions().col(v)).norm() > 0;
     if (trigger == RemeshTrigger::Normal) expect_trigger_free(s.mesh, unit_slab(), stats, options, deformed);
     // Lmax holds for either trigger.
-    expect_trigger_free(s.mesh, unit_slab(), stats, RemeshOptions{90, 0, 0.1, 20, trigger}, {});
+    expect_trigger_free(s.mesh, unit_slab(), stats, RemeshOptions{90, 0, 0.1, 20, trigger, {}, {}}, {});
   }
 }
 
@@ -273,7 +277,9 @@ TEST(Remesh, PolygonFacesAreTriangulatedKeepingCorners) {
   EXPECT_EQ(s.mesh.num_faces(), 72u);
   const MeshStorage& st = s.mesh.storage();
   for (HalfedgeIndex h : st.sm.halfedges())
-    if (!st.sm.is_border(h)) EXPECT_EQ(st.uv[h], static_cast<std::int32_t>(st.sm.target(h).idx()));
+    if (!st.sm.is_border(h)) {
+      EXPECT_EQ(st.uv[h], static_cast<std::int32_t>(st.sm.target(h).idx()));
+    }
   expect_valid(s.mesh);
 }
 

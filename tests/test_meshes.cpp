@@ -27,13 +27,13 @@ PolygonSoup grid_soup(int n, const std::function<double(double, double)>& height
     for (int i = 0; i < n; ++i) {
       const std::uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
       if (quads) {
-        soup.faces.push_back({{a, b, c, d}});
+        soup.faces.push_back({{a, b, c, d}, {}, {}});
       } else if ((i + j) % 2 == 0) {
-        soup.faces.push_back({{a, b, c}});
-        soup.faces.push_back({{a, c, d}});
+        soup.faces.push_back({{a, b, c}, {}, {}});
+        soup.faces.push_back({{a, c, d}, {}, {}});
       } else {
-        soup.faces.push_back({{a, b, d}});
-        soup.faces.push_back({{b, c, d}});
+        soup.faces.push_back({{a, b, d}, {}, {}});
+        soup.faces.push_back({{b, c, d}, {}, {}});
       }
     }
   return soup;
@@ -73,7 +73,7 @@ Mesh sphere_mesh(int levels) {
     }
     tris = next;
   }
-  for (const auto& f : tris) soup.faces.push_back({{f[0], f[1], f[2]}});
+  for (const auto& f : tris) soup.faces.push_back({{f[0], f[1], f[2]}, {}, {}});
   return build_mesh(soup, "sphere");
 }
 

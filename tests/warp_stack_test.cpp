@@ -64,7 +64,9 @@ TEST(WarpStack, UpdateTouchesOnlyVerticesInAlteredCells) {
     const Eigen::Vector3d u = box.to_local(mesh.rest_positions().col(v));
     const bool in_cells = (u.array() < 0.5).all();
     expected += in_cells;
-    if (!in_cells) EXPECT_EQ(mesh.positions().col(v), before.col(v)) << v;
+    if (!in_cells) {
+      EXPECT_EQ(mesh.positions().col(v), before.col(v)) << v;
+    }
   }
   EXPECT_EQ(update.moved, expected);
   EXPECT_GT(update.moved, 0u);

@@ -51,10 +51,10 @@ Mesh midpoint_subdivision(const Mesh& mesh) {
   };
   for (const auto& f : mesh.faces()) {
     const std::uint32_t ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
-    soup.faces.push_back({{f[0], ab, ca}});
-    soup.faces.push_back({{f[1], bc, ab}});
-    soup.faces.push_back({{f[2], ca, bc}});
-    soup.faces.push_back({{ab, bc, ca}});
+    soup.faces.push_back({{f[0], ab, ca}, {}, {}});
+    soup.faces.push_back({{f[1], bc, ab}, {}, {}});
+    soup.faces.push_back({{f[2], ca, bc}, {}, {}});
+    soup.faces.push_back({{ab, bc, ca}, {}, {}});
   }
   return build_mesh(soup, "subdivision");
 }
