@@ -99,6 +99,11 @@ private:
   bool passes_decimation(HalfedgeIndex h, double len);
   void triangulate();
   void refine();
+  // The level a split of h's edge gives its midpoint, minus one: the highest level of
+  // the edge's endpoints and opposite vertices (Gain & Dodgson).
+  Level split_level(HalfedgeIndex h) const;
+  // The longest edge of the faces on h when it is longer than h (length len), else h.
+  HalfedgeIndex longer_face_edge(HalfedgeIndex h, double len) const;
   std::array<EdgeIndex, 4> split(EdgeIndex e, Level r);
   void decimate();
   bool try_decimate(VertexIndex m);
@@ -158,25 +163,49 @@ bool Remesher::in_domain(VertexIndex b, VertexIndex c) const {
 // warps' Jacobian at m. On well-shaped faces the two agree to first order; next to a
 // heavily refined neighbour the faces on a long edge become slivers whose deformed
 // planes turn freely about the edge, and the literal test then misses a chord far off
-// the surface. With a distance tolerance the larger of the two distances is returned:
-// how far the chord midpoint stands off either tangent plane.
+// the surface.
+//
+// With a distance tolerance the measure is the chord midpoint's distance to the true
+// surface itself, per face: one Gauss-Newton step of closest point, x = m + T·δ with T an
+// orthonormal basis of the rest face's plane and δ = −(JT)⁺ d, then |F(x) − m*|; the
+// larger over the two faces is returned. The plane distance alone is only the first
+// order of it: where the warp stretches an edge unevenly, m* sits away from m̄ along the
+// surface, and the surface's bending over that offset is what a distance tolerance
+// promises to bound.
 double Remesher::midpoint_distance(HalfedgeIndex h) const {
   const VertexIndex b = sm_.source(h), c = sm_.target(h);
   Eigen::Matrix3d J;
-  const Eigen::Vector3d m_bar = stack_.evaluate(0.5 * (s_.rest[b] + s_.rest[c]), &J);
-  const Eigen::Vector3d d = m_bar - 0.5 * (pos(b) + pos(c));
+  const Eigen::Vector3d m = 0.5 * (s_.rest[b] + s_.rest[c]);
+  const Eigen::Vector3d m_bar = stack_.evaluate(m, &J);
+  const Eigen::Vector3d chord_mid = 0.5 * (pos(b) + pos(c));
+  const Eigen::Vector3d d = m_bar - chord_mid;
   double sum = 0, largest = 0;
   for (HalfedgeIndex g : {h, sm_.opposite(h)}) {
     if (sm_.is_border(g)) continue;
     const Eigen::Vector3d& p0 = s_.rest[sm_.source(g)];
-    const Eigen::Vector3d rest_normal =
-        (s_.rest[sm_.target(g)] - p0).cross(s_.rest[sm_.target(sm_.next(g))] - p0);
-    const Eigen::Vector3d n = cofactor_times(J, rest_normal);
-    const double len = n.norm();
-    if (!(len > 0)) continue;
-    const double dist = std::abs(n.dot(d)) / len;
-    sum += dist;
-    largest = std::max(largest, dist);
+    const Eigen::Vector3d edge = s_.rest[sm_.target(g)] - p0;
+    const Eigen::Vector3d rest_normal = edge.cross(s_.rest[sm_.target(sm_.next(g))] - p0);
+    if (!options_.tolerance) {
+      const Eigen::Vector3d n = cofactor_times(J, rest_normal);
+      const double len = n.norm();
+      if (len > 0) sum += std::abs(n.dot(d)) / len;
+      continue;
+    }
+    const double edge_len = edge.norm(), normal_len = rest_normal.norm();
+    if (!(edge_len > 0 && normal_len > 0)) continue;
+    Eigen::Matrix<double, 3, 2> T;
+    T.col(0) = edge / edge_len;
+    T.col(1) = (rest_normal / normal_len).cross(T.col(0));
+    const Eigen::Matrix<double, 3, 2> JT = J * T;
+    const Eigen::Matrix2d normal_matrix = JT.transpose() * JT;
+    const double det = normal_matrix.determinant();
+    Eigen::Vector2d delta = Eigen::Vector2d::Zero();
+    if (det > 0) delta = -(Eigen::Matrix2d{{normal_matrix(1, 1), -normal_matrix(0, 1)},
+                                           {-normal_matrix(1, 0), normal_matrix(0, 0)}} *
+                           (JT.transpose() * d)) /
+                         det;
+    const Eigen::Vector3d q = stack_.evaluate(m + T * delta, nullptr);
+    largest = std::max(largest, (q - chord_mid).norm());
   }
   return options_.tolerance ? largest : sum;
 }
@@ -335,6 +364,29 @@ std::array<EdgeIndex, 4> Remesher::split(EdgeIndex e, Level r) {
   return edges;
 }
 
+Level Remesher::split_level(HalfedgeIndex h) const {
+  Level r = std::max(p_.vertex_level[sm_.source(h)], p_.vertex_level[sm_.target(h)]);
+  for (HalfedgeIndex g : {h, sm_.opposite(h)})
+    if (!sm_.is_border(g)) r = std::max(r, p_.vertex_level[sm_.target(sm_.next(g))]);
+  return r;
+}
+
+HalfedgeIndex Remesher::longer_face_edge(HalfedgeIndex h, double len) const {
+  HalfedgeIndex longest = h;
+  double longest_len = len * (1 + 1e-12);  // ties stay with h
+  for (HalfedgeIndex g : {h, sm_.opposite(h)}) {
+    if (sm_.is_border(g)) continue;
+    for (HalfedgeIndex k : {sm_.next(g), sm_.prev(g)}) {
+      const double kl = length(k);
+      if (kl > longest_len) {
+        longest = k;
+        longest_len = kl;
+      }
+    }
+  }
+  return longest;
+}
+
 void Remesher::refine() {
   while (!heap_.empty()) {
     const auto [len, index] = heap_.top();
@@ -342,9 +394,17 @@ void Remesher::refine() {
     const EdgeIndex e(index);
     const HalfedgeIndex h = sm_.halfedge(e);
     if (length(h) != len) continue;  // split since it was pushed; its halves were pushed then
-    Level r = std::max(p_.vertex_level[sm_.source(h)], p_.vertex_level[sm_.target(h)]);
-    for (HalfedgeIndex g : {h, sm_.opposite(h)})
-      if (!sm_.is_border(g)) r = std::max(r, p_.vertex_level[sm_.target(sm_.next(g))]);
+    const Level r = split_level(h);
+    if (options_.longest_edge_first) {
+      const HalfedgeIndex longer = longer_face_edge(h, len);
+      if (longer != h && split_level(longer) + 1 <= options_.max_level) {
+        // The longer edge goes first, whether or not it triggers (the closure of
+        // longest-edge bisection); this one comes back after it with new faces.
+        heap_.emplace(len, index);
+        heap_.emplace(length(longer), sm_.edge(longer).idx());
+        continue;
+      }
+    }
     if (r + 1 > options_.max_level) {
       ++stats_.max_level_hits;
       continue;

@@ -21,8 +21,11 @@ struct RemeshOptions {
   /// Vertices of this level are not split further (guards runaway refinement).
   int max_level = 8;
   RemeshTrigger trigger = RemeshTrigger::Normal;
+  /// Before splitting an edge, split a longer edge of a face on it first (Rivara's
+  /// longest-edge bisection). Off: the triggered edge itself, as the paper does.
+  bool longest_edge_first = false;
   /// Midpoint trigger only: refine an edge whose chord midpoint stands farther than this
-  /// from either tangent plane of the true deformed surface at F(rest midpoint); decimate
+  /// from the true deformed surface (one closest-point step per face); decimate
   /// below `tolerance_min` (default tolerance / 2). Empty: Greissmair & Purgathofer's
   /// d1 + d2 against L·tan(θ/4) for an edge of length L.
   std::optional<double> tolerance;

@@ -32,6 +32,7 @@ void run_remesh(Scene& scene, const nlohmann::json& step, StepContext& ctx) {
   if (step["l_max"].is_number()) options.l_max = step["l_max"].get<double>();
   options.max_level = step["max_level"];
   options.trigger = step["trigger"] == "midpoint" ? RemeshTrigger::Midpoint : RemeshTrigger::Normal;
+  options.longest_edge_first = step["split"] == "longest";
   if (step.contains("tolerance")) options.tolerance = step["tolerance"].get<double>();
   if (step.contains("tolerance_min")) options.tolerance_min = step["tolerance_min"].get<double>();
   RemeshStats stats;
@@ -42,6 +43,7 @@ void run_remesh(Scene& scene, const nlohmann::json& step, StepContext& ctx) {
   }
   ctx.stats["l_max"] = stats.l_max;
   ctx.stats["trigger"] = step["trigger"];
+  ctx.stats["split"] = step["split"];
   ctx.stats["triangulated_faces"] = stats.triangulated_faces;
   ctx.stats["edges_tested"] = stats.edges_tested;
   ctx.stats["refinements"] = stats.refinements;

@@ -174,6 +174,8 @@ const char* kSchema = R"json({
                       "description": "Refinement level no vertex exceeds; edges it stops are counted."},
         "trigger": {"enum": ["normal", "midpoint"], "default": "normal",
                     "description": "normal: endpoint normal divergence (the paper's choice); midpoint: Greissmair & Purgathofer's midpoint distance, with thresholds L·tan(theta/4) for an edge of length L, or the tolerances below."},
+        "split": {"enum": ["edge", "longest"], "default": "edge",
+                  "description": "edge: split the edge that triggered (the paper). longest: first split a longer edge of a face on it (Rivara's longest-edge bisection), so repeated refinement of one spot makes no sliver fans; the mesh then follows a distance tolerance with fewer faces."},
         "tolerance": {"type": "number", "minimum": 0,
                       "description": "Midpoint trigger: refine an edge whose chord midpoint stands farther than this from the true deformed surface (a length: bounds the distance to the true surface instead of angles)."},
         "tolerance_min": {"type": "number", "minimum": 0,
