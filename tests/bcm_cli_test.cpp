@@ -24,21 +24,16 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using test::data;
+using test::files_in;
+using test::quoted;
 using test::read_file;
 using test::run_tool;
 using test::temp_folder;
 using test::write_file;
 
-std::string q(const std::string& path) { return "'" + path + "'"; }
-
-std::set<std::string> files_in(const std::string& dir) {
-  std::set<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename().string());
-  return names;
-}
 
 std::string run_args(const std::string& mesh, const std::string& script, const std::string& dir, const std::string& extra = "") {
-  return "run " + q(mesh) + " " + q(script) + " -o " + q(dir + "/out.obj") + " --stats " + q(dir + "/stats.json") +
+  return "run " + quoted(mesh) + " " + quoted(script) + " -o " + quoted(dir + "/out.obj") + " --stats " + quoted(dir + "/stats.json") +
          (extra.empty() ? "" : " " + extra);
 }
 
@@ -74,7 +69,7 @@ TEST(BcmCli, BunnyEditMatchesTheExpectedMesh) {
   EXPECT_NE(err.find("[1] transform 'back' handle 'hump': 1 frame"), std::string::npos) << err;
 
   std::string cmp;
-  EXPECT_EQ(run_tool("compare " + q(dir + "/out.obj") + " " + q(data("expected/bcm_bunny.obj")) + " --tolerance 1e-8", &cmp), 0)
+  EXPECT_EQ(run_tool("compare " + quoted(dir + "/out.obj") + " " + quoted(data("expected/bcm_bunny.obj")) + " --tolerance 1e-8", &cmp), 0)
       << cmp;
 
   // A valid mesh: same vertices and faces, finite; only the two supports moved, and they
@@ -155,7 +150,7 @@ TEST(BcmCli, FramesSaveAnAnimation) {
       "transform": {"translate": [0, 0.4, 0], "scale": 1.1}})"));
   ASSERT_EQ(run_tool(run_args(data("bunny.obj"), one + "/one.json", one)), 0);
   std::string cmp;
-  EXPECT_EQ(run_tool("compare " + q(one + "/out.obj") + " " + q(dir + "/frame_1.obj") + " --tolerance 1e-12", &cmp), 0) << cmp;
+  EXPECT_EQ(run_tool("compare " + quoted(one + "/out.obj") + " " + quoted(dir + "/frame_1.obj") + " --tolerance 1e-12", &cmp), 0) << cmp;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -362,7 +357,7 @@ TEST(BcmCli, FigureOneConfigurationsFromScripts) {
                   "handles": [{"name": "h", "select": {"sphere": {"center": [15, 15, 0], "radius": 3}}}]},
                   {"op": "transform", "editor": "e", "transform": {"translate": [0, 0, 4]}})"));
     std::string err;
-    EXPECT_EQ(run_tool("run " + q(dir + "/grid.obj") + " " + q(dir + "/" + name + ".json") + " -o " + q(dir + "/" + name + ".obj") +
+    EXPECT_EQ(run_tool("run " + quoted(dir + "/grid.obj") + " " + quoted(dir + "/" + name + ".json") + " -o " + quoted(dir + "/" + name + ".obj") +
                            " --quiet",
                        nullptr, &err),
               0)
@@ -414,7 +409,7 @@ TEST(BcmCli, FileNormalsFollowTheEdit) {
       "handles": [{"name": "h", "select": {"sphere": {"center": [8, 8, 0], "radius": 1.5}}}]},
       {"op": "transform", "editor": "e", "transform": {"translate": [0, 0, 3], "rotate": {"axis": [1, 0, 0], "degrees": 20}}})"));
   std::string err;
-  ASSERT_EQ(run_tool("run " + q(dir + "/grid.obj") + " " + q(dir + "/s.json") + " -o " + q(dir + "/out.obj") + " --quiet", nullptr, &err), 0)
+  ASSERT_EQ(run_tool("run " + quoted(dir + "/grid.obj") + " " + quoted(dir + "/s.json") + " -o " + quoted(dir + "/out.obj") + " --quiet", nullptr, &err), 0)
       << err;
   // Parse the output: vertex positions, the normal table, each corner's (vertex, normal).
   std::vector<Eigen::Vector3d> normals;
@@ -455,7 +450,7 @@ TEST(BcmCli, ValidateFillsTheDefaults) {
   const std::string dir = temp_folder("bcm_validate");
   write_file(dir + "/s.json", script_with(std::string(kBackEditor) + R"(, {"op": "transform", "editor": "back", "transform": {}})"));
   std::string out, err;
-  ASSERT_EQ(run_tool("validate --resolved " + q(dir + "/s.json"), &out, &err), 0) << err;
+  ASSERT_EQ(run_tool("validate --resolved " + quoted(dir + "/s.json"), &out, &err), 0) << err;
   const json resolved = json::parse(out);
   const json& bcm = resolved["steps"][0];
   EXPECT_EQ(bcm["k"], 3);

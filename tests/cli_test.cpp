@@ -23,18 +23,13 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using test::data;
+using test::files_in;
+using test::quoted;
 using test::read_file;
 using test::run_tool;
 using test::temp_folder;
 using test::write_file;
 
-std::string q(const std::string& path) { return "'" + path + "'"; }
-
-std::set<std::string> files_in(const std::string& dir) {
-  std::set<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename().string());
-  return names;
-}
 
 // stderr holds exactly one line, "ffdtool: error: ...", mentioning every part.
 void expect_one_error_line(const std::string& err, const std::vector<std::string>& parts) {
@@ -150,8 +145,8 @@ std::size_t check_demo_output(const std::string& path, int moves) {
 }
 
 std::string demo_run_args(const std::string& dir, const std::string& extra = "") {
-  return "run " + q(data("bunny.obj")) + " " + q(data("demo.json")) + " -o " + q(dir + "/out.obj") + " --stats " +
-         q(dir + "/stats.json") + (extra.empty() ? "" : " " + extra);
+  return "run " + quoted(data("bunny.obj")) + " " + quoted(data("demo.json")) + " -o " + quoted(dir + "/out.obj") + " --stats " +
+         quoted(dir + "/stats.json") + (extra.empty() ? "" : " " + extra);
 }
 
 TEST(CliRun, DemoOnTheBunnyMatchesTheExpectedMesh) {
@@ -165,7 +160,7 @@ TEST(CliRun, DemoOnTheBunnyMatchesTheExpectedMesh) {
 
   // Against the checked-in expected mesh, through `ffdtool compare`.
   std::string cmp_out, cmp_err;
-  EXPECT_EQ(run_tool("compare " + q(dir + "/out.obj") + " " + q(data("expected/bunny_demo.obj")) + " --tolerance 1e-9",
+  EXPECT_EQ(run_tool("compare " + quoted(dir + "/out.obj") + " " + quoted(data("expected/bunny_demo.obj")) + " --tolerance 1e-9",
                      &cmp_out, &cmp_err),
             0)
       << cmp_out << cmp_err;
@@ -258,7 +253,7 @@ const char* kGoodScript = R"({"version": 1, "steps": [
 
 std::string run_args(const std::string& mesh, const std::string& script, const std::string& output,
                      const std::string& stats) {
-  return "run " + q(mesh) + " " + q(script) + " -o " + q(output) + " --stats " + q(stats);
+  return "run " + quoted(mesh) + " " + quoted(script) + " -o " + quoted(output) + " --stats " + quoted(stats);
 }
 
 std::string script_with(const std::string& steps) { return R"({"version": 1, "steps": [)" + steps + "]}"; }
@@ -402,18 +397,18 @@ TEST(CliCompare, ExitCodesAndMetrics) {
   const std::string dir = temp_folder("cli_compare");
   const std::string bunny = data("bunny.obj");
   std::string out, err;
-  EXPECT_EQ(run_tool("compare " + q(bunny) + " " + q(bunny), &out, &err), 0) << out << err;
+  EXPECT_EQ(run_tool("compare " + quoted(bunny) + " " + quoted(bunny), &out, &err), 0) << out << err;
   EXPECT_NE(out.find("max 0"), std::string::npos) << out;
 
   // One vertex moved by 1e-6.
   Mesh moved = test::bunny();
   moved.positions()(0, 100) += 1e-6;
   write_mesh(dir + "/moved.obj", moved);
-  EXPECT_EQ(run_tool("compare " + q(bunny) + " " + q(dir + "/moved.obj") + " --tolerance 1e-9", &out, &err), 1) << err;
+  EXPECT_EQ(run_tool("compare " + quoted(bunny) + " " + quoted(dir + "/moved.obj") + " --tolerance 1e-9", &out, &err), 1) << err;
   EXPECT_NE(out.find("different"), std::string::npos) << out;
   EXPECT_NE(out.find("vertex 100"), std::string::npos) << out;
-  EXPECT_EQ(run_tool("compare " + q(bunny) + " " + q(dir + "/moved.obj") + " --tolerance 1e-5", &out, &err), 0) << out;
-  ASSERT_EQ(run_tool("compare " + q(bunny) + " " + q(dir + "/moved.obj") + " --json", &out, &err), 1) << err;
+  EXPECT_EQ(run_tool("compare " + quoted(bunny) + " " + quoted(dir + "/moved.obj") + " --tolerance 1e-5", &out, &err), 0) << out;
+  ASSERT_EQ(run_tool("compare " + quoted(bunny) + " " + quoted(dir + "/moved.obj") + " --json", &out, &err), 1) << err;
   const json j = json::parse(out);
   EXPECT_EQ(j["metric"], "vertex");
   EXPECT_EQ(j["within_tolerance"], false);
@@ -425,12 +420,12 @@ TEST(CliCompare, ExitCodesAndMetrics) {
   // Different vertex counts: the vertex metric cannot compare them and says what to use.
   const Mesh refined = midpoint_refined(test::bunny());
   write_mesh(dir + "/refined.obj", refined);
-  EXPECT_EQ(run_tool("compare " + q(bunny) + " " + q(dir + "/refined.obj") + " --metric vertex", &out, &err), 1);
+  EXPECT_EQ(run_tool("compare " + quoted(bunny) + " " + quoted(dir + "/refined.obj") + " --metric vertex", &out, &err), 1);
   EXPECT_NE(out.find("hausdorff"), std::string::npos) << out;
   EXPECT_NE(out.find("1839"), std::string::npos) << out;
 
   // Hausdorff: the refined copy has the same surface...
-  ASSERT_EQ(run_tool("compare " + q(bunny) + " " + q(dir + "/refined.obj") + " --metric hausdorff --tolerance 1e-6 --json",
+  ASSERT_EQ(run_tool("compare " + quoted(bunny) + " " + quoted(dir + "/refined.obj") + " --metric hausdorff --tolerance 1e-6 --json",
                      &out, &err),
             0)
       << out << err;
@@ -445,14 +440,14 @@ TEST(CliCompare, ExitCodesAndMetrics) {
   write_mesh(dir + "/sphere.off", sphere);
   write_mesh(dir + "/bigger.obj", bigger);
   write_mesh(dir + "/sphere_refined.ply", midpoint_refined(sphere));
-  ASSERT_EQ(run_tool("compare " + q(dir + "/sphere.off") + " " + q(dir + "/bigger.obj") +
+  ASSERT_EQ(run_tool("compare " + quoted(dir + "/sphere.off") + " " + quoted(dir + "/bigger.obj") +
                          " --metric hausdorff --tolerance 1e-3 --json",
                      &out, &err),
             1)
       << err;
   const json s = json::parse(out);
   EXPECT_NEAR(s["max"].get<double>(), 0.01, 1e-4);
-  ASSERT_EQ(run_tool("compare " + q(dir + "/sphere.off") + " " + q(dir + "/sphere_refined.ply") +
+  ASSERT_EQ(run_tool("compare " + quoted(dir + "/sphere.off") + " " + quoted(dir + "/sphere_refined.ply") +
                          " --metric hausdorff --tolerance 1e-9",
                      &out, &err),
             0)
@@ -461,11 +456,11 @@ TEST(CliCompare, ExitCodesAndMetrics) {
 
 TEST(CliCompare, BadArgumentsExitTwo) {
   std::string err;
-  EXPECT_EQ(run_tool("compare " + q(data("bunny.obj")) + " " + q(data("nope.obj")), nullptr, &err), 2);
+  EXPECT_EQ(run_tool("compare " + quoted(data("bunny.obj")) + " " + quoted(data("nope.obj")), nullptr, &err), 2);
   expect_one_error_line(err, {"nope.obj", "no such file"});
-  EXPECT_EQ(run_tool("compare " + q(data("bunny.obj")) + " " + q(data("bunny.obj")) + " --metric chamfer", nullptr, &err), 2);
+  EXPECT_EQ(run_tool("compare " + quoted(data("bunny.obj")) + " " + quoted(data("bunny.obj")) + " --metric chamfer", nullptr, &err), 2);
   expect_one_error_line(err, {"chamfer"});
-  EXPECT_EQ(run_tool("compare " + q(data("bunny.obj")), nullptr, &err), 2);
+  EXPECT_EQ(run_tool("compare " + quoted(data("bunny.obj")), nullptr, &err), 2);
   expect_one_error_line(err, {});
 }
 
@@ -474,12 +469,12 @@ TEST(CliCompare, BadArgumentsExitTwo) {
 
 TEST(CliInfo, PrintsTheBunnysCounts) {
   std::string out, err;
-  ASSERT_EQ(run_tool("info " + q(data("bunny.obj")), &out, &err), 0) << err;
+  ASSERT_EQ(run_tool("info " + quoted(data("bunny.obj")), &out, &err), 0) << err;
   EXPECT_NE(out.find("vertices   1,839 (0 isolated)"), std::string::npos) << out;
   EXPECT_NE(out.find("faces      3,674 (3,674 with 3 sides)"), std::string::npos) << out;
   EXPECT_NE(out.find("closed"), std::string::npos) << out;
   EXPECT_NE(out.find("Euler characteristic 2"), std::string::npos) << out;
-  ASSERT_EQ(run_tool("info --json " + q(data("bunny.obj")), &out, &err), 0) << err;
+  ASSERT_EQ(run_tool("info --json " + quoted(data("bunny.obj")), &out, &err), 0) << err;
   const json j = json::parse(out);
   EXPECT_EQ(j["vertices"], 1839);
   EXPECT_EQ(j["faces"], 3674);
@@ -489,14 +484,14 @@ TEST(CliInfo, PrintsTheBunnysCounts) {
 
 TEST(CliValidate, ValidResolvedAndInvalid) {
   std::string out, err;
-  ASSERT_EQ(run_tool("validate " + q(data("demo.json")), &out, &err), 0) << err;
+  ASSERT_EQ(run_tool("validate " + quoted(data("demo.json")), &out, &err), 0) << err;
   EXPECT_NE(out.find("valid"), std::string::npos) << out;
   EXPECT_NE(out.find("4 steps"), std::string::npos) << out;
 
   const std::string dir = temp_folder("cli_validate");
   write_file(dir + "/s.json", script_with(R"({"op": "lattice", "name": "b", "cells": [4, 4, 4]},
       {"op": "move", "lattice": "b", "select": {"near": [0, 0, 0]}, "transform": {"rotate": {"axis": [0, 0, 1], "degrees": 5}}})"));
-  ASSERT_EQ(run_tool("validate --resolved " + q(dir + "/s.json"), &out, &err), 0) << err;
+  ASSERT_EQ(run_tool("validate --resolved " + quoted(dir + "/s.json"), &out, &err), 0) << err;
   const json r = json::parse(out);
   EXPECT_EQ(r["steps"][0]["basis"], "bspline");
   EXPECT_EQ(r["steps"][0]["degree"], 3);
@@ -505,7 +500,7 @@ TEST(CliValidate, ValidResolvedAndInvalid) {
   EXPECT_EQ(r["steps"][1]["transform"]["translate"], json::array({0, 0, 0}));
 
   write_file(dir + "/bad.json", script_with(R"({"op": "lattice", "name": "b", "cells": [4, 4]})"));
-  EXPECT_EQ(run_tool("validate " + q(dir + "/bad.json"), &out, &err), 2);
+  EXPECT_EQ(run_tool("validate " + quoted(dir + "/bad.json"), &out, &err), 2);
   expect_one_error_line(err, {dir + "/bad.json: /steps/0/cells:", "expected an array of 3 integers"});
   EXPECT_TRUE(out.empty()) << out;
 }
@@ -529,15 +524,15 @@ TEST(CliUsage, VersionHelpAndUsageErrors) {
   expect_one_error_line(err, {});
   EXPECT_EQ(run_tool("", &out, &err), 2);
   expect_one_error_line(err, {});
-  EXPECT_EQ(run_tool("run " + q(data("bunny.obj")), &out, &err), 2);
+  EXPECT_EQ(run_tool("run " + quoted(data("bunny.obj")), &out, &err), 2);
   expect_one_error_line(err, {"required"});
-  EXPECT_EQ(run_tool("run " + q(data("bunny.obj")) + " " + q(data("demo.json")), &out, &err), 2);
+  EXPECT_EQ(run_tool("run " + quoted(data("bunny.obj")) + " " + quoted(data("demo.json")), &out, &err), 2);
   expect_one_error_line(err, {"--output"});
   EXPECT_EQ(run_tool("info", &out, &err), 2);
   expect_one_error_line(err, {"mesh"});
   EXPECT_EQ(run_tool("validate", &out, &err), 2);
   expect_one_error_line(err, {"script"});
-  EXPECT_EQ(run_tool("info " + q(data("bunny.obj")) + " --frob", &out, &err), 2);
+  EXPECT_EQ(run_tool("info " + quoted(data("bunny.obj")) + " --frob", &out, &err), 2);
   expect_one_error_line(err, {"--frob"});
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <set>
 #include <string>
 
 #include "mesh/mesh.h"
@@ -33,5 +34,10 @@ int run_tool(const std::string& args, std::string* out = nullptr, std::string* e
 /// Reads a whole file ("" if missing).
 std::string read_file(const std::string& path);
 void write_file(const std::string& path, const std::string& text);
+
+/// The path in single quotes, for run_tool's shell command line.
+std::string quoted(const std::string& path);
+/// The names of the entries of a folder.
+std::set<std::string> files_in(const std::string& dir);
 
 }  // namespace ffd::test
