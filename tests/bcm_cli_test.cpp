@@ -31,7 +31,6 @@ using test::run_tool;
 using test::temp_folder;
 using test::write_file;
 
-
 std::string run_args(const std::string& mesh, const std::string& script, const std::string& dir, const std::string& extra = "") {
   return "run " + quoted(mesh) + " " + quoted(script) + " -o " + quoted(dir + "/out.obj") + " --stats " + quoted(dir + "/stats.json") +
          (extra.empty() ? "" : " " + extra);
@@ -308,6 +307,20 @@ TEST(BcmCli, BadInputExitsTwoWithOneLineNamingThePlaceAndWritesNothing) {
     for (const std::string& part : c.mentions) EXPECT_NE(err.find(part), std::string::npos) << "no '" << part << "' in: " << err;
     EXPECT_TRUE(files_in(out).empty()) << "files were written";
   }
+}
+
+TEST(BcmCli, AFramePathThatNamesTheInputMeshIsRefusedBeforeAnyWork) {
+  const std::string dir = temp_folder("bcm_frame_input");
+  const std::string bunny = read_file(data("bunny.obj"));
+  write_file(dir + "/frame_1.obj", bunny);
+  write_file(dir + "/script.json",
+             script_with(std::string(kBackEditor) + R"(, {"op": "transform", "editor": "back",
+                 "frames": [{}, {"translate": [0, 0.5, 0]}], "save": "frame_{i}.obj"})"));
+  std::string err;
+  EXPECT_EQ(run_tool(run_args(dir + "/frame_1.obj", dir + "/script.json", dir, "--quiet"), nullptr, &err), 2);
+  EXPECT_NE(err.find("/steps/1: '" + dir + "/frame_1.obj' would overwrite an input file"), std::string::npos) << err;
+  EXPECT_EQ(files_in(dir), (std::set<std::string>{"frame_1.obj", "script.json"}));
+  EXPECT_EQ(read_file(dir + "/frame_1.obj"), bunny);
 }
 
 // A remesh (or any step that changes connectivity) between setup and a transform: the

@@ -30,7 +30,6 @@ using test::run_tool;
 using test::temp_folder;
 using test::write_file;
 
-
 // stderr holds exactly one line, "ffdtool: error: ...", mentioning every part.
 void expect_one_error_line(const std::string& err, const std::vector<std::string>& parts) {
   EXPECT_EQ(err.rfind("ffdtool: error: ", 0), 0u) << "stderr: " << err;

@@ -44,6 +44,9 @@ void run_transform(Scene&, const nlohmann::json&, StepContext&);
 void check_save(ScriptChecks&, const nlohmann::json&, const std::string&);
 void run_save(Scene&, const nlohmann::json&, StepContext&);
 
+/// A transform step's save pattern for frame i: each "{i}" replaced by i.
+std::string frame_path(const std::string& pattern, std::size_t i);
+
 /// Writes the scene's current mesh to `relative` (inside the output folder) as a staged
 /// file committed at the end of the run, with `options` (Scene::write_options() and
 /// any replacement colours); returns the bytes written.

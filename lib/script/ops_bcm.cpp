@@ -55,18 +55,6 @@ LaplacianKind laplacian_kind(const std::string& name) {
   return LaplacianKind::Cotan;
 }
 
-std::string frame_path(const std::string& pattern, std::size_t i) {
-  std::string out;
-  for (std::size_t at = 0; at < pattern.size();) {
-    if (pattern.compare(at, 3, "{i}") == 0) {
-      out += std::to_string(i);
-      at += 3;
-    } else {
-      out += pattern[at++];
-    }
-  }
-  return out;
-}
 
 std::string ms_text(double ms) {
   char buf[32];
@@ -115,6 +103,19 @@ void refresh_normals(Scene& scene, const BcmEditor& editor, Eigen::Matrix3Xd& fr
 }
 
 }  // namespace
+
+std::string frame_path(const std::string& pattern, std::size_t i) {
+  std::string out;
+  for (std::size_t at = 0; at < pattern.size();) {
+    if (pattern.compare(at, 3, "{i}") == 0) {
+      out += std::to_string(i);
+      at += 3;
+    } else {
+      out += pattern[at++];
+    }
+  }
+  return out;
+}
 
 void check_bcm(ScriptChecks& checks, const json& step, const std::string& p) {
   const std::string name = step["name"];

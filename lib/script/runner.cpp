@@ -49,14 +49,23 @@ void check_outputs(const RunOptions& options, const Script& script, const std::s
   const json& steps = script.resolved["steps"];
   for (std::size_t i = 0; i < steps.size(); ++i) {
     if (!steps[i].contains("path") && !steps[i].contains("save")) continue;
-    const std::string rel = steps[i].contains("path") ? steps[i]["path"] : steps[i]["save"];
-    const fs::path target = fs::path(output_folder) / rel;
+    // A save step's path, or each frame's path of a transform step's save pattern.
+    std::vector<std::string> paths;
+    if (steps[i].contains("path")) {
+      paths.push_back(steps[i]["path"]);
+    } else {
+      const std::size_t frames = steps[i].contains("frames") ? steps[i]["frames"].size() : 1;
+      for (std::size_t f = 0; f < frames; ++f) paths.push_back(frame_path(steps[i]["save"], f));
+    }
     const std::string where = script.path + ": /steps/" + std::to_string(i);
-    std::error_code ec;
-    if (!fs::is_directory(target.parent_path().empty() ? "." : target.parent_path(), ec))
-      throw InputError(where + ": the folder of '" + target.string() + "' does not exist");
-    if (same_file(target, options.mesh) || same_file(target, options.script))
-      throw InputError(where + ": '" + target.string() + "' would overwrite an input file");
+    for (const std::string& rel : paths) {
+      const fs::path target = fs::path(output_folder) / rel;
+      std::error_code ec;
+      if (!fs::is_directory(target.parent_path().empty() ? "." : target.parent_path(), ec))
+        throw InputError(where + ": the folder of '" + target.string() + "' does not exist");
+      if (same_file(target, options.mesh) || same_file(target, options.script))
+        throw InputError(where + ": '" + target.string() + "' would overwrite an input file");
+    }
   }
 }
 
