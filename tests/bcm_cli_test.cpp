@@ -25,6 +25,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 using test::data;
 using test::files_in;
+using test::without_measurements;
 using test::quoted;
 using test::read_file;
 using test::run_tool;
@@ -37,22 +38,6 @@ std::string run_args(const std::string& mesh, const std::string& script, const s
 }
 
 std::string script_with(const std::string& steps) { return R"({"version": 1, "steps": [)" + steps + "]}"; }
-
-// Stats without times and memory (keys "ms", "*_ms", "peak_memory_bytes").
-json without_measurements(json j) {
-  if (j.is_object()) {
-    json out = json::object();
-    for (auto it = j.begin(); it != j.end(); ++it) {
-      const std::string& k = it.key();
-      if (k == "ms" || (k.size() > 3 && k.compare(k.size() - 3, 3, "_ms") == 0) || k == "peak_memory_bytes") continue;
-      out[k] = without_measurements(it.value());
-    }
-    return out;
-  }
-  if (j.is_array())
-    for (auto& e : j) e = without_measurements(e);
-  return j;
-}
 
 const Eigen::Vector3d kBack(1.24, 6.29, 1.05), kEar(0.0, 9.65, -1.36);
 

@@ -24,6 +24,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 using test::data;
 using test::files_in;
+using test::without_measurements;
 using test::quoted;
 using test::read_file;
 using test::run_tool;
@@ -198,22 +199,6 @@ TEST(CliRun, DemoOnTheBunnyMatchesTheExpectedMesh) {
   EXPECT_TRUE(stats["totals"]["ms"].is_number());
   EXPECT_GE(stats["totals"]["ms"].get<double>(), stats["totals"]["steps_ms"].get<double>());
   EXPECT_GT(stats["peak_memory_bytes"].get<double>(), 0);
-}
-
-// Stats without anything that measures time or memory.
-json without_measurements(json j) {
-  if (j.is_object()) {
-    json out = json::object();
-    for (auto it = j.begin(); it != j.end(); ++it) {
-      const std::string& k = it.key();
-      if (k == "ms" || (k.size() > 3 && k.compare(k.size() - 3, 3, "_ms") == 0) || k == "peak_memory_bytes") continue;
-      out[k] = without_measurements(it.value());
-    }
-    return out;
-  }
-  if (j.is_array())
-    for (auto& e : j) e = without_measurements(e);
-  return j;
 }
 
 TEST(CliRun, IsDeterministicWhateverTheThreadCount) {

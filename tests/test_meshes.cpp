@@ -136,4 +136,19 @@ std::set<std::string> files_in(const std::string& dir) {
   return names;
 }
 
+nlohmann::json without_measurements(nlohmann::json j) {
+  if (j.is_object()) {
+    nlohmann::json out = nlohmann::json::object();
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      const std::string& k = it.key();
+      if (k == "ms" || (k.size() > 3 && k.compare(k.size() - 3, 3, "_ms") == 0) || k == "peak_memory_bytes") continue;
+      out[k] = without_measurements(it.value());
+    }
+    return out;
+  }
+  if (j.is_array())
+    for (auto& e : j) e = without_measurements(e);
+  return j;
+}
+
 }  // namespace ffd::test

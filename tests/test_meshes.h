@@ -5,6 +5,8 @@
 #include <set>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "mesh/mesh.h"
 #include "mesh/soup.h"
 
@@ -39,5 +41,8 @@ void write_file(const std::string& path, const std::string& text);
 std::string quoted(const std::string& path);
 /// The names of the entries of a folder.
 std::set<std::string> files_in(const std::string& dir);
+/// Stats without times and memory (keys "ms", "*_ms", "peak_memory_bytes"), for
+/// comparing runs.
+nlohmann::json without_measurements(nlohmann::json j);
 
 }  // namespace ffd::test
