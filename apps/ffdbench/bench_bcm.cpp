@@ -39,6 +39,23 @@ Pose random_pose(std::mt19937& rng, const Eigen::Vector3d& center, double reach)
   return pose;
 }
 
+double median(std::vector<double> values);
+
+// Median ms of `frames` updates of handle 0 of `editor` into `positions`, each at a fresh
+// random pose (seed 17, so every editor sees the same poses); returns the last pose too.
+double median_frame_ms(BcmEditor& editor, Eigen::Matrix3Xd& positions, double reach, int frames, Pose& last) {
+  std::mt19937 rng(17);
+  std::vector<double> times;
+  for (int f = 0; f < frames; ++f) {
+    last = random_pose(rng, editor.handle_centroid(0), reach);
+    editor.set_pose(0, last.linear, last.translation);
+    Stopwatch frame_clock;
+    editor.update(positions);
+    times.push_back(frame_clock.ms());
+  }
+  return median(times);
+}
+
 double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   return values[values.size() / 2];
@@ -83,17 +100,8 @@ void bench_bcm(Context& ctx) {
 
     // Per frame: the dense update alone (a fresh random 9-dof pose each frame).
     Eigen::Matrix3Xd pos = positions;
-    std::mt19937 rng(17);
-    std::vector<double> times;
     Pose pose{};
-    for (int f = 0; f < frames; ++f) {
-      pose = random_pose(rng, editor.handle_centroid(0), 0.05 * diagonal);
-      editor.set_pose(0, pose.linear, pose.translation);
-      Stopwatch frame_clock;
-      editor.update(pos);
-      times.push_back(frame_clock.ms());
-    }
-    const double frame_ms = median(times);
+    const double frame_ms = median_frame_ms(editor, pos, 0.05 * diagonal, frames, pose);
     const Eigen::Matrix3Xd ours = pos;
     const Eigen::Matrix3Xd direct = editor.solve_free();
     double basis_vs_direct = 0;
@@ -105,17 +113,9 @@ void bench_bcm(Context& ctx) {
     Stopwatch detail_clock;
     BcmEditor detailed(mesh, support, {{"handle", handle}}, options);
     const double detail_setup_ms = detail_clock.ms();
-    rng.seed(17);
-    times.clear();
     Eigen::Matrix3Xd dpos = positions;
-    for (int f = 0; f < frames; ++f) {
-      const Pose p = random_pose(rng, detailed.handle_centroid(0), 0.05 * diagonal);
-      detailed.set_pose(0, p.linear, p.translation);
-      Stopwatch frame_clock;
-      detailed.update(dpos);
-      times.push_back(frame_clock.ms());
-    }
-    const double detail_frame_ms = median(times);
+    Pose detail_pose{};
+    const double detail_frame_ms = median_frame_ms(detailed, dpos, 0.05 * diagonal, frames, detail_pose);
 
     // Baseline: CGAL's fair on the same free vertices with the handle at the last pose,
     // continuity k−1 (Δ^k, C^(k−1) at every boundary), solved from scratch with its
@@ -231,15 +231,8 @@ void bench_bcm(Context& ctx) {
     BcmEditor editor(target, anisotropic ? strip_support : support, handles, options);
     const double setup_ms = clock.ms();
     Eigen::Matrix3Xd pos = target.positions();
-    std::mt19937 rng(17);
-    std::vector<double> times;
-    for (int f = 0; f < frames; ++f) {
-      const Pose pose = random_pose(rng, editor.handle_centroid(0), 0.05 * diagonal);
-      editor.set_pose(0, pose.linear, pose.translation);
-      Stopwatch frame_clock;
-      editor.update(pos);
-      times.push_back(frame_clock.ms());
-    }
+    Pose pose{};
+    const double frame_ms = median_frame_ms(editor, pos, 0.05 * diagonal, frames, pose);
     const BcmEditor::Stats& stats = editor.stats();
     rows.push_back({{"case", anisotropic ? "k=3 anisotropic, C^2 boundaries" : "k=3 cotan, C^1 outer / C^2 inner (unsymmetric)"},
                     {"mesh", anisotropic ? "wavy 4:1 strip (synthetic)" : name},
@@ -251,7 +244,7 @@ void bench_bcm(Context& ctx) {
                     {"factorization_ms", stats.factor_ms},
                     {"basis_ms", stats.basis_ms},
                     {"precompute_ms", setup_ms},
-                    {"ms_per_frame", median(times)}});
+                    {"ms_per_frame", frame_ms}});
   }
   ctx.out["bcm"] = rows;
 }
