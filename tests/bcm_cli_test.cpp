@@ -14,7 +14,7 @@
 #include "common/errors.h"
 #include "mesh/mesh_io.h"
 #include "mesh/vertex_normals.h"
-#include "script/ops.h"
+#include "script/runner.h"
 #include "script/script.h"
 #include "test_meshes.h"
 
@@ -313,20 +313,19 @@ TEST(BcmCli, AFramePathThatNamesTheInputMeshIsRefusedBeforeAnyWork) {
 TEST(BcmCli, TransformAfterAConnectivityChangeIsAnInputError) {
   Scene scene;
   scene.mesh = test::bunny();
-  scene.script_path = "s.json";
   scene.output_folder = temp_folder("bcm_topology");
   const Script script = parse_script(script_with(std::string(kBackEditor) +
                                                  R"(, {"op": "transform", "editor": "back", "transform": {"translate": [0, 1, 0]}})"),
                                      "s.json");
   StepContext setup;
   setup.pointer = "/steps/0";
-  run_bcm(scene, script.resolved["steps"][0], setup);
+  run_step(script, *script.steps[0], scene, setup);
   EXPECT_EQ(setup.stats["free_vertices"], 220);
   scene.mesh.mark_topology_changed();
   StepContext transform;
   transform.pointer = "/steps/1";
   try {
-    run_transform(scene, script.resolved["steps"][1], transform);
+    run_step(script, *script.steps[1], scene, transform);
     FAIL() << "a stale editor moved a handle";
   } catch (const InputError& e) {
     const std::string what = e.what();

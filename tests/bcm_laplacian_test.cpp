@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "common/errors.h"
 #include "bcm/anisotropic_laplacian.h"
 #include "bcm/bcm_options.h"
 #include "bcm/cotan_laplacian.h"
@@ -202,8 +203,8 @@ TEST(AnisotropicLaplacian, RefusesAnAnnulus) {
   try {
     anisotropic_laplacian(positions, ring, ring);
     FAIL() << "an annulus was parametrized";
-  } catch (const BcmInputError& e) {
-    EXPECT_EQ(e.key(), "/laplacian");
+  } catch (const TopologyError& e) {
+    EXPECT_EQ(e.subject().argument, "laplacian");
     EXPECT_NE(std::string(e.what()).find("2 boundary loops"), std::string::npos) << e.what();
   }
 }

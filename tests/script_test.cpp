@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "common/errors.h"
-#include "script/ops.h"
+#include "script/op.h"
 #include "script/schema.h"
 #include "script/schema_check.h"
 #include "script/script.h"
@@ -295,10 +295,9 @@ TEST(ScriptSchema, IsWellFormedAndMatchesTheOpTable) {
     EXPECT_NE(std::find(def["required"].begin(), def["required"].end(), "op"), def["required"].end()) << op;
     EXPECT_EQ(def.value("additionalProperties", true), false) << op;
   }
-  for (const Op& op : op_table()) {
-    EXPECT_TRUE(table_ops.insert(op.name).second) << "op '" << op.name << "' twice in the op table";
-    EXPECT_NE(op.check, nullptr) << op.name;
-    EXPECT_NE(op.run, nullptr) << op.name;
+  for (const OpInfo* op : op_table()) {
+    EXPECT_TRUE(table_ops.insert(op->name()).second) << "op '" << op->name() << "' twice in the op table";
+    EXPECT_EQ(find_op(op->name()), op) << op->name();
   }
   EXPECT_EQ(schema_ops, table_ops);
   EXPECT_TRUE(schema_ops.count("lattice") && schema_ops.count("move") && schema_ops.count("drag") &&

@@ -13,6 +13,7 @@
 #include "mesh/mesh_io.h"
 #include "script/runner.h"
 #include "script/schema.h"
+#include "script/schema_markdown.h"
 #include "script/script.h"
 
 namespace {
@@ -142,7 +143,9 @@ int main(int argc, char** argv) {
   validate_cmd->add_option("script", validate_path, "JSON script")->required();
   validate_cmd->add_flag("--resolved", resolved, "Print the script with every default filled in");
 
+  bool markdown = false;
   CLI::App* schema_cmd = app.add_subcommand("schema", "Print the script format's JSON Schema");
+  schema_cmd->add_flag("--markdown", markdown, "Print the script reference in Markdown instead");
 
   try {
     app.parse(argc, argv);
@@ -165,12 +168,15 @@ int main(int argc, char** argv) {
     if (*info_cmd) return command_info(info_path, info_json);
     if (*validate_cmd) return command_validate(validate_path, resolved);
     if (*schema_cmd) {
-      std::cout << ffd::script_schema().dump(2) << "\n";
+      if (markdown)
+        std::cout << ffd::script_reference_markdown();
+      else
+        std::cout << ffd::script_schema().dump(2) << "\n";
       return 0;
     }
   } catch (const ffd::InputError& e) {
     return fail(2, e.what());
-  } catch (const ffd::RunError& e) {
+  } catch (const ffd::Error& e) {
     return fail(3, e.what());
   } catch (const std::bad_alloc&) {
     return fail(3, "out of memory");

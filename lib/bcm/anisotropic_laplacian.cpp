@@ -7,6 +7,7 @@
 
 #include <algorithm>
 
+#include "common/errors.h"
 #include "bcm/bcm_options.h"
 #include "mesh/mesh_storage.h"
 
@@ -16,8 +17,9 @@ namespace {
 namespace SMP = CGAL::Surface_mesh_parameterization;
 
 [[noreturn]] void not_a_disk(const std::string& what) {
-  throw BcmInputError("/laplacian", "anisotropic bending parametrizes the support and the rings around it, which must "
-                                    "be a topological disk; " + what + " (use \"cotan\" for such supports)");
+  throw TopologyError("anisotropic bending parametrizes the support and the rings around it, which must "
+                      "be a topological disk; " + what + " (use \"cotan\" for such supports)",
+                      {"laplacian"});
 }
 
 }  // namespace
@@ -62,8 +64,9 @@ Eigen::Matrix3Xd equal_diameter_conformal_map(const Eigen::Ref<const Eigen::Matr
   auto uv = sm.add_property_map<VertexIndex, Kernel::Point_2>("v:bcm_uv").first;
   const SMP::Error_code status = SMP::parameterize(sm, SMP::LSCM_parameterizer_3<SurfaceMesh>(), border, uv);
   if (status != SMP::OK)
-    throw BcmInputError("/laplacian", std::string("the conformal parametrization of the support failed: ") +
-                                          SMP::get_error_message(status));
+    throw InputError(std::string("the conformal parametrization of the support failed: ") +
+                         SMP::get_error_message(status),
+                     {"laplacian"});
 
   // Principal axes of the planar region (its exact area second moments), then the minor
   // axis stretched so that both axes span the same diameter (the paper's "scale this
@@ -84,7 +87,7 @@ Eigen::Matrix3Xd equal_diameter_conformal_map(const Eigen::Ref<const Eigen::Matr
     first += ta * sum / 3;
     second += ta / 12 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + sum * sum.transpose());
   }
-  if (!(area > 0)) throw BcmInputError("/laplacian", "the conformal parametrization of the support has no area");
+  if (!(area > 0)) throw InputError("the conformal parametrization of the support has no area", {"laplacian"});
   const Eigen::Vector2d mean = first / area;
   const Eigen::Matrix2d covariance = second / area - mean * mean.transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);

@@ -13,9 +13,9 @@ namespace ffd {
 /// The planar domain: per vertex (u, v, 0) of `triangles`' least-squares conformal map
 /// (Lévy et al. 2002, CGAL's LSCM_parameterizer_3), rotated to its principal axes and
 /// scaled along the minor one so that both axes span the same diameter. `positions` is
-/// 3 × n; every vertex must lie in some triangle. \throw BcmInputError ("/laplacian")
-/// when the triangles are not a topological disk (one piece, one boundary loop, Euler
-/// characteristic 1) or the parametrization fails.
+/// 3 × n; every vertex must lie in some triangle. \throw TopologyError about "laplacian"
+/// (the anisotropic kind) when the triangles are not a topological disk (one piece, one
+/// boundary loop, Euler characteristic 1); InputError about it when the parametrization fails.
 Eigen::Matrix3Xd equal_diameter_conformal_map(const Eigen::Ref<const Eigen::Matrix3Xd>& positions,
                                               const std::vector<Triangle>& triangles);
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/errors.h"
 #include "bcm/anisotropic_laplacian.h"
 #include "bcm/bcm_regions.h"
 #include "bcm/kharmonic_system.h"
@@ -107,13 +108,13 @@ BcmEditor::BcmEditor(const Mesh& mesh, const std::vector<std::uint32_t>& support
   s.options = options;
   const int k = options.k;
   if (k < 1 || k > 3)
-    throw BcmInputError("/k", "k must be 1, 2 or 3 (higher orders are numerically unstable), found " + std::to_string(k));
+    throw InputError("k must be 1, 2 or 3 (higher orders are numerically unstable), found " + std::to_string(k), {"k"});
   if (s.options.outer_continuity < 0) s.options.outer_continuity = k - 1;
   if (s.options.inner_continuity < 0) s.options.inner_continuity = k - 1;
-  for (const auto& [key, c] : {std::pair<const char*, double>{"/continuity/outer", s.options.outer_continuity},
-                               std::pair<const char*, double>{"/continuity/inner", s.options.inner_continuity}})
+  for (const auto& [argument, c] : {std::pair<const char*, double>{"outer_continuity", s.options.outer_continuity},
+                                    std::pair<const char*, double>{"inner_continuity", s.options.inner_continuity}})
     if (c > k - 1)
-      throw BcmInputError(key, "must be at most k - 1 = " + std::to_string(k - 1) + ", found " + std::to_string(c));
+      throw InputError("must be at most k - 1 = " + std::to_string(k - 1) + ", found " + std::to_string(c), {argument});
   s.topology_version = mesh.topology_version();
   const auto positions = mesh.positions();
 
@@ -161,8 +162,9 @@ BcmEditor::BcmEditor(const Mesh& mesh, const std::vector<std::uint32_t>& support
         mesh.face_vertices(f, ids);
         if (std::none_of(ids.begin(), ids.end(), [&](std::uint32_t v) { return in_handle[v] != 0; })) continue;
         if (ids.size() != 3)
-          throw BcmInputError("/handles", "face " + std::to_string(f) + " has " + std::to_string(ids.size()) +
-                                              " sides; the anisotropic Laplacian needs triangles in the handles");
+          throw TopologyError("face " + std::to_string(f) + " has " + std::to_string(ids.size()) +
+                                  " sides; the anisotropic Laplacian needs triangles in the handles",
+                              {"handles"});
         Triangle t;
         for (int c = 0; c < 3; ++c) {
           if (local[ids[c]] == UINT32_MAX) {
@@ -198,12 +200,14 @@ BcmEditor::BcmEditor(const Mesh& mesh, const std::vector<std::uint32_t>& support
   clock.restart();
   const auto singular = [&] {
     if (options.laplacian == LaplacianKind::Anisotropic)
-      return BcmInputError("/laplacian", "the k-harmonic system on this support's conformal map is numerically "
-                                         "singular: the map is too distorted (the support is far from developable, "
-                                         "e.g. most of a closed surface); use \"cotan\" or a smaller support");
-    return BcmInputError("/support", "the k-harmonic system of this support is singular: degenerate (zero-area) "
-                                     "triangles or zero cotangent weights cut part of it off from its boundary "
-                                     "(try \"laplacian\": \"uniform\")");
+      return InputError("the k-harmonic system on this support's conformal map is numerically "
+                        "singular: the map is too distorted (the support is far from developable, "
+                        "e.g. most of a closed surface); use \"cotan\" or a smaller support",
+                        {"laplacian"});
+    return InputError("the k-harmonic system of this support is singular: degenerate (zero-area) "
+                      "triangles or zero cotangent weights cut part of it off from its boundary "
+                      "(try \"laplacian\": \"uniform\")",
+                      {"support"});
   };
   if (system.symmetric) {
     // Symmetric positive definite (see kharmonic_system): supernodal Cholesky.

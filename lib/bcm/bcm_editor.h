@@ -44,8 +44,9 @@ public:
   };
 
   /// Sets an editor up on `mesh`'s current positions. `support` and each handle's
-  /// vertices are ascending, duplicate-free vertex lists. \throw BcmInputError (with the script key at
-  /// fault) when a handle leaves the support or overlaps another, nothing is free, a part
+  /// vertices are ascending, duplicate-free vertex lists. \throw InputError (its subject the argument at
+  /// fault: "support", element j of "handles", "laplacian", "k", "outer_continuity" or
+  /// "inner_continuity"; TopologyError for faces that are not triangles) when a handle leaves the support or overlaps another, nothing is free, a part
   /// of the support touches no fixed or handle vertex, a face the system reaches is not a
   /// triangle, an anisotropic support is not a disk, the system is singular, k is not
   /// 1, 2 or 3, or a continuity exceeds k−1 (negative means k−1).

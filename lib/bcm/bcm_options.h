@@ -1,10 +1,9 @@
 // Options of a boundary-constraint editor (Botsch & Kobbelt), mapped 1:1 to the `bcm`
-// script step, and the error its setup throws for bad input.
+// script step.
 #pragma once
 
 #include <string>
 
-#include "common/errors.h"
 
 namespace ffd {
 
@@ -24,18 +23,6 @@ struct BcmOptions {
   LaplacianKind laplacian = LaplacianKind::Cotan;
   /// Multiresolution editing (section 4): edit a smooth base, carry the support's detail.
   bool detail = true;
-};
-
-/// Bad input found while setting an editor up. `key` is the JSON pointer of the script key
-/// at fault relative to the step ("/support", "/handles/1/select", "/laplacian"), so the
-/// op can name the place; what() is the message without a place.
-class BcmInputError : public InputError {
-public:
-  BcmInputError(std::string key, const std::string& message) : InputError(message), key_(std::move(key)) {}
-  const std::string& key() const { return key_; }
-
-private:
-  std::string key_;
 };
 
 }  // namespace ffd

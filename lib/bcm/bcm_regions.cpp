@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "common/errors.h"
 #include "bcm/bcm_options.h"
 #include "common/numbers.h"
 
@@ -51,18 +52,19 @@ BcmRegions bcm_regions(const std::vector<std::uint32_t>& support, const std::vec
   std::vector<std::uint32_t> taken;  // union of the handles so far, ascending
   for (std::size_t h = 0; h < handles.size(); ++h) {
     const std::vector<std::uint32_t>& handle = handles[h];
-    const std::string key = "/handles/" + std::to_string(h) + "/select";
     std::vector<std::uint32_t> outside;
     std::set_difference(handle.begin(), handle.end(), support.begin(), support.end(), std::back_inserter(outside));
     if (!outside.empty())
-      throw BcmInputError(key, format_count(outside.size()) + " of the handle's " + format_count(handle.size()) +
-                                   " vertices lie outside the support (first: vertex " + std::to_string(outside[0]) +
-                                   "); a handle must be inside its support");
+      throw InputError(format_count(outside.size()) + " of the handle's " + format_count(handle.size()) +
+                           " vertices lie outside the support (first: vertex " + std::to_string(outside[0]) +
+                           "); a handle must be inside its support",
+                       {"handles", h});
     std::vector<std::uint32_t> shared;
     std::set_intersection(handle.begin(), handle.end(), taken.begin(), taken.end(), std::back_inserter(shared));
     if (!shared.empty())
-      throw BcmInputError(key, "the handle shares " + format_count(shared.size()) + " vertices with an earlier handle (first: vertex " +
-                                   std::to_string(shared[0]) + "); handles must not overlap");
+      throw InputError("the handle shares " + format_count(shared.size()) + " vertices with an earlier handle (first: vertex " +
+                           std::to_string(shared[0]) + "); handles must not overlap",
+                       {"handles", h});
     std::vector<std::uint32_t> merged;
     std::merge(taken.begin(), taken.end(), handle.begin(), handle.end(), std::back_inserter(merged));
     taken.swap(merged);
@@ -70,8 +72,9 @@ BcmRegions bcm_regions(const std::vector<std::uint32_t>& support, const std::vec
   }
   std::set_difference(support.begin(), support.end(), taken.begin(), taken.end(), std::back_inserter(regions.free));
   if (regions.free.empty())
-    throw BcmInputError("/support", "the handles cover the whole support (" + format_count(support.size()) +
-                                        " vertices): no vertex is left free to bend");
+    throw InputError("the handles cover the whole support (" + format_count(support.size()) +
+                         " vertices): no vertex is left free to bend",
+                     {"support"});
   return regions;
 }
 
@@ -103,10 +106,11 @@ BcmStencil bcm_stencil(const Mesh& mesh, const VertexAdjacency& adjacency, const
         }
       }
     if (!anchored)
-      throw BcmInputError("/support", "a part of the support (" + format_count(queue.size()) +
-                                          " free vertices, first: vertex " + std::to_string(seed) +
-                                          ") touches no fixed or handle vertex, so nothing holds it (singular "
-                                          "system); put a handle in it or leave some of its surroundings fixed");
+      throw InputError("a part of the support (" + format_count(queue.size()) + " free vertices, first: vertex " +
+                           std::to_string(seed) +
+                           ") touches no fixed or handle vertex, so nothing holds it (singular "
+                           "system); put a handle in it or leave some of its surroundings fixed",
+                       {"support"});
   }
 
   // Rings 1..k around the free set (breadth first).
@@ -145,10 +149,11 @@ BcmStencil bcm_stencil(const Mesh& mesh, const VertexAdjacency& adjacency, const
     for (std::uint32_t v : ids) inner = inner || ring[v] <= k - 1;
     if (!inner) continue;
     if (ids.size() != 3)
-      throw BcmInputError("/support", "face " + std::to_string(f) + " has " + std::to_string(ids.size()) +
-                                          " sides and touches the free vertices or the " + std::to_string(k - 1) +
-                                          " rings around them that Δ^k reaches; boundary-constraint modeling needs "
-                                          "triangles there (triangulate the mesh first)");
+      throw TopologyError("face " + std::to_string(f) + " has " + std::to_string(ids.size()) +
+                             " sides and touches the free vertices or the " + std::to_string(k - 1) +
+                             " rings around them that Δ^k reaches; boundary-constraint modeling needs "
+                             "triangles there (triangulate the mesh first)",
+                         {"support"});
     stencil.triangles.push_back({local[ids[0]], local[ids[1]], local[ids[2]]});
     stencil.faces.push_back(static_cast<std::uint32_t>(f));
   }

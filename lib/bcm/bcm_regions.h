@@ -31,9 +31,9 @@ struct BcmRegions {
 };
 
 /// Splits a support and its handles (sorted, unique vertex lists) into free and handle
-/// sets. \throw BcmInputError ("/handles/j/select") when a handle has vertices outside the
-/// support or shares vertices with an earlier handle; ("/support") when the handles cover
-/// the whole support, leaving nothing free.
+/// sets. \throw InputError about element j of "handles" when handle j has vertices outside
+/// the support or shares vertices with an earlier handle; about "support" when the handles
+/// cover the whole support, leaving nothing free.
 BcmRegions bcm_regions(const std::vector<std::uint32_t>& support,
                        const std::vector<std::vector<std::uint32_t>>& handles);
 
@@ -56,9 +56,10 @@ struct BcmStencil {
   std::size_t num_constrained() const { return vertices.size() - num_free; }
 };
 
-/// The stencil of `regions` for Δ^k. \throw BcmInputError ("/support") when a connected
+/// The stencil of `regions` for Δ^k. \throw InputError about "support" when a connected
 /// part of the free vertices touches no fixed or handle vertex (nothing would determine
-/// it: the system is singular), or when a face within k−1 rings is not a triangle.
+/// it: the system is singular); TopologyError about "support" when a face within k−1
+/// rings is not a triangle.
 BcmStencil bcm_stencil(const Mesh& mesh, const VertexAdjacency& adjacency, const BcmRegions& regions, int k);
 
 }  // namespace ffd

@@ -58,7 +58,7 @@ struct SupernodalCholesky::Impl {
 // and solves the rows below it.
 bool SupernodalCholesky::Impl::numeric(const Sparse& a) {
   if (!cholmod_change_factor(CHOLMOD_REAL, true, true, true, true, factor, &common))
-    throw RunError("sparse Cholesky: out of memory for the factor");
+    throw SolverError("sparse Cholesky: out of memory for the factor");
   const int n = static_cast<int>(factor->n), nsuper = static_cast<int>(factor->nsuper);
   const int* super = static_cast<const int*>(factor->super);
   const int* pi = static_cast<const int*>(factor->pi);
@@ -139,7 +139,7 @@ bool SupernodalCholesky::compute(const Eigen::SparseMatrix<double>& a) {
   s.common.postorder = true;
   cholmod_sparse view = Eigen::viewAsCholmod(a.selfadjointView<Eigen::Lower>());
   s.factor = cholmod_analyze(&view, &s.common);
-  if (!s.factor) throw RunError("sparse Cholesky: the symbolic analysis ran out of memory");
+  if (!s.factor) throw SolverError("sparse Cholesky: the symbolic analysis ran out of memory");
   s.flops = s.common.fl;
   s.analyze_ms = clock.ms();
   clock.restart();

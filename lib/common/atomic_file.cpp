@@ -32,7 +32,7 @@ StagedFile::~StagedFile() {
 void StagedFile::commit() {
   std::error_code ec;
   fs::rename(temp_, target_, ec);
-  if (ec) throw RunError(target_.string() + ": cannot write: " + ec.message());
+  if (ec) throw IoError(At{target_.string()}, "cannot write: " + ec.message());
   done_ = true;
 }
 
@@ -50,10 +50,10 @@ void write_file_atomically(const fs::path& target,
   StagedFile staged(target);
   {
     std::ofstream os(staged.temp_path(), std::ios::binary | std::ios::trunc);
-    if (!os) throw RunError(target.string() + ": cannot open for writing");
+    if (!os) throw IoError(At{target.string()}, "cannot open for writing");
     write(os);
     os.flush();
-    if (!os) throw RunError(target.string() + ": write failed (disk full?)");
+    if (!os) throw IoError(At{target.string()}, "write failed (disk full?)");
   }
   staged.commit();
 }

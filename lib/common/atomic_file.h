@@ -21,7 +21,7 @@ public:
 
   const std::filesystem::path& target() const { return target_; }
   const std::filesystem::path& temp_path() const { return temp_; }
-  /// Renames the temporary file to the target. Throws RunError if that fails.
+  /// Renames the temporary file to the target. Throws IoError if that fails.
   void commit();
 
 private:
@@ -34,7 +34,7 @@ private:
 void require_output_folder(const std::filesystem::path& target, const std::string& what);
 
 /// Writes `target` whole through `write` (which fills a binary ofstream), or throws
-/// RunError and leaves nothing behind.
+/// IoError and leaves nothing behind.
 void write_file_atomically(const std::filesystem::path& target,
                            const std::function<void(std::ostream&)>& write);
 

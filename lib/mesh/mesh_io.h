@@ -35,7 +35,7 @@ void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh,
                 const WriteOptions& options = {});
 
 /// Writes `mesh` to `path` (format from the extension) whole or not at all.
-/// \throw InputError if the folder is missing or the extension unknown, RunError on I/O.
+/// \throw InputError if the folder is missing or the extension unknown, IoError on I/O.
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options = {});
 
 }  // namespace ffd

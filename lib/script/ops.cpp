@@ -1,26 +1,36 @@
-#include "script/ops.h"
-
-#include <stdexcept>
+// The op registry: op_list.h's lines, declared and listed.
+#include "script/op.h"
 
 namespace ffd {
 
-const std::vector<Op>& op_table() {
-  static const std::vector<Op> table = {
-      {"lattice", check_lattice, run_lattice},
-      {"move", check_move, run_move},
-      {"drag", check_drag, run_drag},
-      {"remesh", check_remesh, run_remesh},
-      {"save", check_save, run_save},
-      {"bcm", check_bcm, run_bcm},
-      {"transform", check_transform, run_transform},
+#define FFD_OP(function) const OpInfo& function();
+#include "script/op_list.h"
+#undef FFD_OP
+
+const std::vector<const OpInfo*>& op_table() {
+  static const std::vector<const OpInfo*> table = {
+#define FFD_OP(function) &function(),
+#include "script/op_list.h"
+#undef FFD_OP
   };
   return table;
 }
 
-const Op& find_op(const std::string& name) {
-  for (const Op& op : op_table())
-    if (name == op.name) return op;
-  throw std::logic_error("op '" + name + "' is in the schema but not in the op table");
+const OpInfo* find_op(const std::string& name) {
+  for (const OpInfo* op : op_table())
+    if (op->name() == name) return op;
+  return nullptr;
+}
+
+nlohmann::json OpInfo::schema() const {
+  nlohmann::json s = object_schema(keys_);
+  s["title"] = name_;
+  s["description"] = doc_;
+  s["properties"]["op"] = {{"const", name_}};
+  nlohmann::json required = nlohmann::json::array({"op"});
+  for (const auto& key : s.value("required", nlohmann::json::array())) required.push_back(key);
+  s["required"] = required;
+  return s;
 }
 
 }  // namespace ffd

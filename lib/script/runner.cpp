@@ -12,7 +12,7 @@
 #include "common/numbers.h"
 #include "common/timer.h"
 #include "mesh/mesh_io.h"
-#include "script/ops.h"
+#include "script/output_files.h"
 #include "script/scene.h"
 #include "script/script.h"
 
@@ -40,33 +40,22 @@ void check_outputs(const RunOptions& options, const Script& script, const std::s
   mesh_format(options.output);
   require_output_folder(options.output, "output");
   if (same_file(options.output, options.script))
-    throw InputError(options.output + ": the output would overwrite the script");
+    throw InputError(At{options.output}, "the output would overwrite the script");
   if (!options.stats.empty()) {
     require_output_folder(options.stats, "stats");
     for (const std::string& input : {options.mesh, options.script})
-      if (same_file(options.stats, input)) throw InputError(options.stats + ": the stats file would overwrite an input");
+      if (same_file(options.stats, input)) throw InputError(At{options.stats}, "the stats file would overwrite an input");
   }
-  const json& steps = script.resolved["steps"];
-  for (std::size_t i = 0; i < steps.size(); ++i) {
-    if (!steps[i].contains("path") && !steps[i].contains("save")) continue;
-    // A save step's path, or each frame's path of a transform step's save pattern.
-    std::vector<std::string> paths;
-    if (steps[i].contains("path")) {
-      paths.push_back(steps[i]["path"]);
-    } else {
-      const std::size_t frames = steps[i].contains("frames") ? steps[i]["frames"].size() : 1;
-      for (std::size_t f = 0; f < frames; ++f) paths.push_back(frame_path(steps[i]["save"], f));
-    }
-    const std::string where = script.path + ": /steps/" + std::to_string(i);
-    for (const std::string& rel : paths) {
-      const fs::path target = fs::path(output_folder) / rel;
+  for (const auto& step : script.steps)
+    for (const OutputFile& file : step->outputs()) {
+      const fs::path target = fs::path(output_folder) / file.path;
+      const std::string where = script.path + ": " + step->pointer;
       std::error_code ec;
       if (!fs::is_directory(target.parent_path().empty() ? "." : target.parent_path(), ec))
-        throw InputError(where + ": the folder of '" + target.string() + "' does not exist");
+        throw InputError(At{where}, "the folder of '" + target.string() + "' does not exist");
       if (same_file(target, options.mesh) || same_file(target, options.script))
-        throw InputError(where + ": '" + target.string() + "' would overwrite an input file");
+        throw InputError(At{where}, "'" + target.string() + "' would overwrite an input file");
     }
-  }
 }
 
 std::string ms_text(double ms) {
@@ -75,23 +64,8 @@ std::string ms_text(double ms) {
   return buf;
 }
 
-}  // namespace
-
-nlohmann::ordered_json run_script(const RunOptions& options) {
-  Stopwatch total;
-  if (options.threads > 0) omp_set_num_threads(options.threads);
-  const Script script = load_script(options.script);
-  Scene scene;
-  scene.script_path = options.script;
-  scene.script_folder = script.folder;
-  scene.output_folder = fs::path(options.output).parent_path().string();
-  if (scene.output_folder.empty()) scene.output_folder = ".";
-  check_outputs(options, script, scene.output_folder);
-
-  Stopwatch read_clock;
-  scene.mesh = read_mesh(options.mesh);
-  const double read_ms = read_clock.ms();
-
+// The stats' header: tool, build, threads and the input.
+nlohmann::ordered_json input_stats(const RunOptions& options, const Mesh& mesh, double read_ms) {
   nlohmann::ordered_json stats;
   stats["tool"] = "ffdtool";
   stats["version"] = FFD_VERSION;
@@ -99,62 +73,89 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
   stats["threads"] = omp_get_max_threads();
   stats["input"] = {{"mesh", options.mesh},
                     {"script", options.script},
-                    {"vertices", scene.mesh.num_vertices()},
-                    {"faces", scene.mesh.num_faces()},
+                    {"vertices", mesh.num_vertices()},
+                    {"faces", mesh.num_faces()},
                     {"read_ms", read_ms}};
+  return stats;
+}
+
+// Runs every step in order; returns their stats.
+nlohmann::ordered_json run_steps(const Script& script, Scene& scene, bool quiet) {
+  nlohmann::ordered_json steps = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < script.steps.size(); ++i) {
+    const Step& step = *script.steps[i];
+    StepContext ctx;
+    ctx.pointer = step.pointer;
+    const std::size_t warnings_before = scene.warnings.size();
+    Stopwatch clock;
+    run_step(script, step, scene, ctx);
+    const double ms = clock.ms();
+    nlohmann::ordered_json entry = {{"index", i}, {"op", step.op->name()}, {"ms", ms},
+                                    {"vertices", scene.mesh.num_vertices()}, {"faces", scene.mesh.num_faces()}};
+    entry.update(ctx.stats);
+    steps.push_back(entry);
+    if (quiet) continue;
+    std::fprintf(stderr, "  [%zu] %s (%s)\n", i, ctx.summary.c_str(), ms_text(ms).c_str());
+    for (std::size_t w = warnings_before; w < scene.warnings.size(); ++w)
+      std::fprintf(stderr, "  warning: %s\n", scene.warnings[w].c_str());
+  }
+  return steps;
+}
+
+// Stages the stats file with the run's other outputs.
+void stage_stats(const std::string& path, const nlohmann::ordered_json& stats, Scene& scene) {
+  StagedFile staged(path);
+  {
+    std::ofstream os(staged.temp_path(), std::ios::binary | std::ios::trunc);
+    os << stats.dump(2) << "\n";
+    if (!os) throw IoError(At{path}, "cannot write");
+  }
+  scene.staged.push_back(std::move(staged));
+}
+
+}  // namespace
+
+void run_step(const Script& script, const Step& step, Scene& scene, StepContext& ctx) {
+  try {
+    step.run(scene, ctx);
+  } catch (Error& e) {
+    if (!e.placed()) e.set_place(script.path + ": " + step.pointer + key_of(step.op->keys(), e.subject()));
+    throw;
+  }
+}
+
+nlohmann::ordered_json run_script(const RunOptions& options) {
+  Stopwatch total;
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  const Script script = load_script(options.script);
+  Scene scene;
+  scene.output_folder = fs::path(options.output).parent_path().string();
+  if (scene.output_folder.empty()) scene.output_folder = ".";
+  check_outputs(options, script, scene.output_folder);
+
+  Stopwatch read_clock;
+  scene.mesh = read_mesh(options.mesh);
+  nlohmann::ordered_json stats = input_stats(options, scene.mesh, read_clock.ms());
 #ifndef NDEBUG
   scene.warnings.push_back("this ffdtool is not an optimized build: expect it to be many times slower");
 #endif
   if (!options.quiet)
     std::fprintf(stderr, "ffdtool: %s: %s vertices, %s faces (read in %s)\n", options.mesh.c_str(),
                  format_count(scene.mesh.num_vertices()).c_str(), format_count(scene.mesh.num_faces()).c_str(),
-                 ms_text(read_ms).c_str());
-
-  nlohmann::ordered_json steps = nlohmann::ordered_json::array();
-  const json& script_steps = script.resolved["steps"];
-  for (std::size_t i = 0; i < script_steps.size(); ++i) {
-    const json& step = script_steps[i];
-    const std::string op = step["op"];
-    StepContext ctx;
-    ctx.pointer = "/steps/" + std::to_string(i);
-    const std::size_t warnings_before = scene.warnings.size();
-    Stopwatch clock;
-    find_op(op).run(scene, step, ctx);
-    const double ms = clock.ms();
-    nlohmann::ordered_json entry = {{"index", i}, {"op", op}, {"ms", ms}, {"vertices", scene.mesh.num_vertices()},
-                  {"faces", scene.mesh.num_faces()}};
-    entry.update(ctx.stats);
-    steps.push_back(entry);
-    if (!options.quiet) {
-      std::fprintf(stderr, "  [%zu] %s (%s)\n", i, ctx.summary.c_str(), ms_text(ms).c_str());
-      for (std::size_t w = warnings_before; w < scene.warnings.size(); ++w)
-        std::fprintf(stderr, "  warning: %s\n", scene.warnings[w].c_str());
-    }
-  }
-  stats["steps"] = steps;
+                 ms_text(stats["input"]["read_ms"].get<double>()).c_str());
+  stats["steps"] = run_steps(script, scene, options.quiet);
 
   Stopwatch write_clock;
-  const std::string output_name = fs::path(options.output).filename().string();
-  stage_mesh(scene, output_name, scene.write_options());
+  stage_mesh(scene, fs::path(options.output).filename().string());
   const double write_ms = write_clock.ms();
-
   double steps_ms = 0;
-  for (const auto& s : steps) steps_ms += s["ms"].get<double>();
+  for (const auto& s : stats["steps"]) steps_ms += s["ms"].get<double>();
   stats["output"] = {{"mesh", options.output}, {"vertices", scene.mesh.num_vertices()},
                      {"faces", scene.mesh.num_faces()}, {"write_ms", write_ms}};
   stats["totals"] = {{"steps_ms", steps_ms}, {"ms", total.ms()}};
   stats["warnings"] = scene.warnings;
   stats["peak_memory_bytes"] = peak_memory_bytes();
-
-  if (!options.stats.empty()) {
-    StagedFile staged(options.stats);
-    {
-      std::ofstream os(staged.temp_path(), std::ios::binary | std::ios::trunc);
-      os << stats.dump(2) << "\n";
-      if (!os) throw RunError(options.stats + ": cannot write");
-    }
-    scene.staged.push_back(std::move(staged));
-  }
+  if (!options.stats.empty()) stage_stats(options.stats, stats, scene);
   for (StagedFile& file : scene.staged) file.commit();
   if (!options.quiet)
     std::fprintf(stderr, "ffdtool: wrote %s: %s vertices, %s faces; steps %s, total %s\n", options.output.c_str(),

@@ -19,9 +19,18 @@ struct RunOptions {
 /// Checks everything that can be checked first (script, output paths, input files), then
 /// reads the mesh, runs every step, and writes the output mesh, every saved mesh and the
 /// stats file, all renamed into place only after the last step succeeded. Returns the
-/// stats. \throw InputError for bad input (nothing is written), RunError for a failure
+/// stats. \throw InputError for bad input (nothing is written), SolverError or IoError for a failure
 /// while running (nothing is written).
 nlohmann::ordered_json run_script(const RunOptions& options);
+
+struct Script;
+class Step;
+struct Scene;
+struct StepContext;
+
+/// Runs one of `script`'s steps on `scene`. An error the step raises without a place is
+/// placed at the key its op's table gives the error's subject, or else at the step.
+void run_step(const Script& script, const Step& step, Scene& scene, StepContext& ctx);
 
 /// Peak resident memory of this process in bytes.
 std::size_t peak_memory_bytes();

@@ -13,11 +13,12 @@ WriteOptions Scene::write_options() const {
   return options;
 }
 
-Lattice& Scene::lattice(const std::string& name, const std::string& pointer) {
+Lattice& Scene::lattice(const std::string& name) {
   auto b = baked.find(name);
   if (b != baked.end())
-    throw InputError(script_path + ": " + pointer + "/lattice: lattice '" + name + "' was frozen into the mesh by the surface edit at " +
-                     b->second + "; create a new lattice to deform further");
+    throw InputError("lattice '" + name + "' was frozen into the mesh by the surface edit at " + b->second +
+                         "; create a new lattice to deform further",
+                     {"lattice"});
   return *lattices.at(name);
 }
 

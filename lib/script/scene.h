@@ -11,7 +11,6 @@
 #include "common/atomic_file.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_io.h"
-#include "script/selection.h"
 #include "warp/lattice.h"
 #include "warp/warp_stack.h"
 
@@ -33,8 +32,6 @@ struct Scene {
   /// Boundary-constraint editors by name (bcm steps), driven by transform steps.
   std::map<std::string, std::unique_ptr<BcmEditor, BcmEditorDelete>> editors;
 
-  std::string script_path;
-  std::string script_folder;
   std::string output_folder;
   /// Files written by steps, renamed into place only when the whole run succeeds.
   std::vector<StagedFile> staged;
@@ -42,17 +39,13 @@ struct Scene {
 
   /// Write options that carry file normals through the warp stack.
   WriteOptions write_options() const;
-  /// Where a selection at `pointer` is, for its messages and relative files.
-  SelectionContext selection_context(const std::string& pointer) const {
-    return {script_path, script_folder, pointer};
-  }
-  /// The named lattice. \throw InputError if it was baked by a surface edit.
-  Lattice& lattice(const std::string& name, const std::string& pointer);
+  /// The named lattice. \throw InputError about "lattice" if it was baked by a surface edit.
+  Lattice& lattice(const std::string& name);
 };
 
 /// What one step reports: its JSON stats object (op-specific counts) and a summary line.
 struct StepContext {
-  std::string pointer;  // "/steps/3"
+  std::string pointer;  // "/steps/3", for warnings
   nlohmann::ordered_json stats = nlohmann::ordered_json::object();
   std::string summary;
 };

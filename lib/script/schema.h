@@ -1,4 +1,4 @@
-// The script format's JSON Schema (draft 2020-12), the one table of ops and keys.
+// The script format's JSON Schema (draft 2020-12): the shared grammar and every op's key table.
 #pragma once
 
 #include <nlohmann/json.hpp>

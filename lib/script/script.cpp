@@ -3,9 +3,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/errors.h"
-#include "script/ops.h"
 #include "script/schema.h"
 #include "script/schema_check.h"
 #include "script/script_checks.h"
@@ -24,25 +24,30 @@ Script parse_script(const std::string& text, const std::string& path) {
     // nlohmann's message carries "at line L, column C"; keep that part.
     std::string what = e.what();
     const auto colon = what.find("] ");
-    throw InputError(path + ": invalid JSON: " + (colon == std::string::npos ? what : what.substr(colon + 2)));
+    throw InputError(At{path}, "invalid JSON: " + (colon == std::string::npos ? what : what.substr(colon + 2)));
   }
   if (auto error = check_schema(script_schema(), doc, &script.resolved))
-    throw InputError(path + ": " + (error->path.empty() ? "/" : error->path) + ": " + error->message);
+    throw InputError(At{path + ": " + (error->path.empty() ? "/" : error->path)}, error->message);
 
-  ScriptChecks checks(script.path, script.folder);
+  ScriptChecks checks(script.path);
   const json& steps = script.resolved["steps"];
   for (std::size_t i = 0; i < steps.size(); ++i) {
-    const json& step = steps[i];
-    find_op(step["op"].get<std::string>()).check(checks, step, "/steps/" + std::to_string(i));
+    const ScriptPlace place{script.path, script.folder, "/steps/" + std::to_string(i)};
+    const OpInfo* op = find_op(steps[i]["op"].get<std::string>());
+    if (!op) throw std::logic_error("op " + steps[i]["op"].dump() + " is in the schema but not in the op table");
+    std::unique_ptr<Step> step = op->parse(steps[i], place);
+    step->check(checks);
+    for (const OutputFile& file : step->outputs()) checks.check_output_path(file.path, place.pointer + file.key);
+    script.steps.push_back(std::move(step));
   }
   return script;
 }
 
 Script load_script(const std::string& path) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(At{path}, "no such file");
   std::ifstream is(path, std::ios::binary);
-  if (!is) throw InputError(path + ": cannot open for reading");
+  if (!is) throw InputError(At{path}, "cannot open for reading");
   std::stringstream ss;
   ss << is.rdbuf();
   return parse_script(ss.str(), path);

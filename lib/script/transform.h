@@ -4,7 +4,6 @@
 #include <optional>
 
 #include <Eigen/Dense>
-#include <nlohmann/json.hpp>
 
 namespace ffd {
 
@@ -19,12 +18,5 @@ struct Transform {
   /// The linear part R·S.
   Eigen::Matrix3d linear() const { return rotation * scale.asDiagonal(); }
 };
-
-/// Reads a schema-checked transform object. The rotation axis is normalized; a zero axis
-/// is an error the caller reports (returns false).
-bool parse_transform(const nlohmann::json& j, Transform& out);
-
-/// Reads [x, y, z].
-Eigen::Vector3d parse_vec3(const nlohmann::json& j);
 
 }  // namespace ffd

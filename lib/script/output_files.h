@@ -1,0 +1,21 @@
+// The files a run writes: staged next to their targets and renamed into place only when
+// the whole run succeeded (DESIGN.md: written whole or not at all).
+#pragma once
+
+#include <string>
+
+#include "mesh/mesh_io.h"
+#include "script/scene.h"
+
+namespace ffd {
+
+/// Writes the scene's current mesh to `relative` (inside the output folder) as a staged
+/// file committed at the end of the run, with `options` (Scene::write_options() and any
+/// replacement colours); returns the bytes written. \throw IoError on a failed write.
+std::size_t stage_mesh(Scene& scene, const std::string& relative, const WriteOptions& options);
+/// The same with the scene's own write options.
+inline std::size_t stage_mesh(Scene& scene, const std::string& relative) {
+  return stage_mesh(scene, relative, scene.write_options());
+}
+
+}  // namespace ffd

@@ -1,0 +1,122 @@
+// The script grammar's typed values and their conversions from (schema-checked) JSON:
+// numbers, vectors, lattice indices, transforms, selections and lattice boxes. Key tables
+// (step_keys.h) call read_value for each key's member; write_value gives a typed value
+// back as JSON, so the tests can tie every schema default to its struct's default.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "common/errors.h"
+#include "script/transform.h"
+
+namespace ffd {
+
+using Index3 = std::array<int, 3>;
+
+/// Where a value of a script is: the script's path (for messages), its folder (selection
+/// files are relative to it) and the value's JSON pointer.
+struct ScriptPlace {
+  std::string script;
+  std::string folder;
+  std::string pointer;  // "/steps/3/support"
+
+  /// The place of a value inside this one ("/indices/2").
+  ScriptPlace at(const std::string& relative) const { return {script, folder, pointer + relative}; }
+  /// "script.json: /steps/3/support".
+  std::string text() const { return script + ": " + (pointer.empty() ? "/" : pointer); }
+  /// \throw InputError placed here.
+  [[noreturn]] void fail(const std::string& message) const { throw InputError(At{text()}, message); }
+};
+
+/// One part of a selection (DESIGN.md's shared grammar), read and checked at load time.
+struct SelectionPart {
+  enum class Kind { Indices, Sphere, Box, Near, File };
+  /// An entry of an `indices` list: a mesh vertex, or a lattice index [i, j, k].
+  struct Entry {
+    bool lattice = false;
+    long long vertex = 0;
+    Index3 ijk{0, 0, 0};
+    std::string text;  // as written, for messages ("[2, 3, 4]")
+  };
+  Kind kind = Kind::Indices;
+  std::string place;   // "script.json: /steps/3/support/1", for messages
+  std::vector<Entry> indices;
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  // sphere; near's point
+  double radius = 0;
+  Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();
+  std::string file;    // as resolved against the script's folder
+  std::vector<std::uint32_t> file_vertices;
+};
+
+/// Mesh vertices or lattice points: the union of its parts.
+struct Selection {
+  std::string place;  // "script.json: /steps/3/support"
+  std::vector<SelectionPart> parts;
+};
+
+/// A lattice's box as the script gives it: corners, a parallelepiped, or a fit to the
+/// current mesh (or a selection of it) with padding.
+struct BoxSpec {
+  enum class Kind { MinMax, OriginAxes, Fit };
+  enum class Fit { Aabb, Obb };
+  Kind kind = Kind::Fit;
+  Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  Fit fit = Fit::Aabb;
+  /// Added on every side, as a fraction of the fitted box's largest extent.
+  double padding = 0.05;
+  std::optional<Selection> select;
+};
+
+void read_value(const nlohmann::json& j, double& out, const ScriptPlace& place);
+void read_value(const nlohmann::json& j, int& out, const ScriptPlace& place);
+void read_value(const nlohmann::json& j, long long& out, const ScriptPlace& place);
+void read_value(const nlohmann::json& j, bool& out, const ScriptPlace& place);
+void read_value(const nlohmann::json& j, std::string& out, const ScriptPlace& place);
+void read_value(const nlohmann::json& j, Eigen::Vector3d& out, const ScriptPlace& place);
+void read_value(const nlohmann::json& j, Index3& out, const ScriptPlace& place);
+/// \throw InputError at "/rotate/axis" when the rotation axis is zero.
+void read_value(const nlohmann::json& j, Transform& out, const ScriptPlace& place);
+/// Reads selection files now. \throw InputError for a missing file (at "/file") or a
+/// malformed line (naming the file's line).
+void read_value(const nlohmann::json& j, Selection& out, const ScriptPlace& place);
+void read_value(const nlohmann::json& j, BoxSpec& out, const ScriptPlace& place);
+
+template <class T>
+void read_value(const nlohmann::json& j, std::optional<T>& out, const ScriptPlace& place) {
+  T value{};
+  read_value(j, value, place);
+  out = std::move(value);
+}
+
+template <class T>
+void read_value(const nlohmann::json& j, std::vector<T>& out, const ScriptPlace& place) {
+  out.clear();
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    T value{};
+    read_value(j[i], value, place.at("/" + std::to_string(i)));
+    out.push_back(std::move(value));
+  }
+}
+
+nlohmann::json write_value(double v);
+nlohmann::json write_value(int v);
+nlohmann::json write_value(bool v);
+nlohmann::json write_value(const std::string& v);
+nlohmann::json write_value(const Eigen::Vector3d& v);
+nlohmann::json write_value(const Index3& v);
+/// The box as the script would give it (a selection is not written back).
+nlohmann::json write_value(const BoxSpec& v);
+
+/// A transform step's save pattern for frame i: each "{i}" replaced by i.
+std::string frame_path(const std::string& pattern, std::size_t i);
+
+}  // namespace ffd
