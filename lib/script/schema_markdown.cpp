@@ -71,23 +71,24 @@ void key_rows(const TableInfo& table, const std::string& prefix, std::ostringstr
   }
 }
 
-std::string alternatives_text(const TableInfo& table, const std::string& prefix) {
+// "Give exactly one of: `points`, or `select` with `transform`." (`lead` starts it).
+std::string alternatives_text(const TableInfo& table, const std::string& lead) {
   std::string out;
   for (const auto& group : table.alternatives) {
     std::string keys;
-    for (std::size_t i = 0; i < group.size(); ++i) keys += (i ? " with `" : "`") + prefix + group[i] + "`";
+    for (std::size_t i = 0; i < group.size(); ++i) keys += (i ? " with `" : "`") + group[i] + "`";
     out += (out.empty() ? "" : ", or ") + keys;
   }
-  return out.empty() ? out : "Give exactly one of: " + out + ".\n";
+  return out.empty() ? out : lead + " exactly one of: " + out + ".\n";
 }
 
 void op_section(const OpInfo& op, std::ostringstream& os) {
   os << "### `" << op.name() << "`\n\n" << op.doc() << "\n\n";
   os << "| key | type | default | meaning |\n|---|---|---|---|\n";
   key_rows(op.keys(), "", os);
-  os << "\n" << alternatives_text(op.keys(), "");
+  os << "\n" << alternatives_text(op.keys(), "Give");
   for (const KeyInfo& key : op.keys().keys)
-    if (key.items) os << alternatives_text(*key.items, key.path.substr(1) + "[].");
+    if (key.items) os << alternatives_text(*key.items, "Each of `" + key.path.substr(1) + "` has");
   os << "\n";
 }
 
