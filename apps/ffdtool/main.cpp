@@ -100,52 +100,83 @@ int command_validate(const std::string& path, bool resolved) {
   return 0;
 }
 
+// Every subcommand's options, filled by CLI11.
+struct Commands {
+  ffd::RunOptions run;
+  std::string a, b, metric = "vertex";
+  double tolerance = 1e-9;
+  bool compare_json = false;
+  std::string info_path;
+  bool info_json = false;
+  std::string validate_path;
+  bool resolved = false;
+  bool markdown = false;
+  CLI::App *run_cmd = nullptr, *compare_cmd = nullptr, *info_cmd = nullptr, *validate_cmd = nullptr,
+           *schema_cmd = nullptr;
+};
+
+void add_run(CLI::App& app, Commands& c) {
+  ffd::RunOptions& run = c.run;
+  c.run_cmd = app.add_subcommand("run", "Run a deformation script on a mesh");
+  c.run_cmd->add_option("mesh", run.mesh, "Input mesh (.obj .off .ply .stl)")->required();
+  c.run_cmd->add_option("script", run.script, "JSON deformation script")->required();
+  c.run_cmd->add_option("-o,--output", run.output, "Output mesh; its folder receives the script's saves")->required();
+  c.run_cmd->add_option("--stats", run.stats, "Write the stats report (JSON) here");
+  c.run_cmd->add_flag("--quiet", run.quiet, "No per-step lines on stderr");
+  c.run_cmd->add_option("--threads", run.threads, "Threads for evaluation (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+}
+
+void add_compare(CLI::App& app, Commands& c) {
+  c.compare_cmd = app.add_subcommand("compare", "Compare two meshes (exit 0 same, 1 different)");
+  c.compare_cmd->add_option("a", c.a, "First mesh")->required();
+  c.compare_cmd->add_option("b", c.b, "Second mesh")->required();
+  c.compare_cmd->add_option("--tolerance", c.tolerance, "Largest distance still 'same', in mesh units")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  c.compare_cmd->add_option("--metric", c.metric, "vertex: vertex i against vertex i; hausdorff: surfaces")
+      ->check(CLI::IsMember({"vertex", "hausdorff"}))
+      ->capture_default_str();
+  c.compare_cmd->add_flag("--json", c.compare_json, "Print the result as JSON");
+}
+
+void add_script_commands(CLI::App& app, Commands& c) {
+  c.info_cmd = app.add_subcommand("info", "Print counts and measures of a mesh");
+  c.info_cmd->add_option("mesh", c.info_path, "Mesh file")->required();
+  c.info_cmd->add_flag("--json", c.info_json, "Print as JSON");
+  c.validate_cmd = app.add_subcommand("validate", "Check a script without running it");
+  c.validate_cmd->add_option("script", c.validate_path, "JSON script")->required();
+  c.validate_cmd->add_flag("--resolved", c.resolved, "Print the script with every default filled in");
+  c.schema_cmd = app.add_subcommand("schema", "Print the script format's JSON Schema");
+  c.schema_cmd->add_flag("--markdown", c.markdown, "Print the script reference in Markdown instead");
+}
+
+// Runs the chosen subcommand; returns its exit code.
+int dispatch(const Commands& c) {
+  if (*c.run_cmd) {
+    ffd::run_script(c.run);
+    return 0;
+  }
+  if (*c.compare_cmd) return command_compare(c.a, c.b, c.tolerance, c.metric, c.compare_json);
+  if (*c.info_cmd) return command_info(c.info_path, c.info_json);
+  if (*c.validate_cmd) return command_validate(c.validate_path, c.resolved);
+  if (c.markdown)
+    std::cout << ffd::script_reference_markdown();
+  else
+    std::cout << ffd::script_schema().dump(2) << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"ffdtool: deform polygon meshes with lattice FFD scripts"};
   app.set_version_flag("--version", std::string("ffdtool ") + FFD_VERSION + " (" + FFD_BUILD_FLAGS + ")");
   app.require_subcommand(1);
-
-  ffd::RunOptions run;
-  CLI::App* run_cmd = app.add_subcommand("run", "Run a deformation script on a mesh");
-  run_cmd->add_option("mesh", run.mesh, "Input mesh (.obj .off .ply .stl)")->required();
-  run_cmd->add_option("script", run.script, "JSON deformation script")->required();
-  run_cmd->add_option("-o,--output", run.output, "Output mesh; its folder receives the script's saves")->required();
-  run_cmd->add_option("--stats", run.stats, "Write the stats report (JSON) here");
-  run_cmd->add_flag("--quiet", run.quiet, "No per-step lines on stderr");
-  run_cmd->add_option("--threads", run.threads, "Threads for evaluation (default: all cores)")
-      ->check(CLI::NonNegativeNumber);
-
-  std::string a, b, metric = "vertex";
-  double tolerance = 1e-9;
-  bool compare_json = false;
-  CLI::App* compare_cmd = app.add_subcommand("compare", "Compare two meshes (exit 0 same, 1 different)");
-  compare_cmd->add_option("a", a, "First mesh")->required();
-  compare_cmd->add_option("b", b, "Second mesh")->required();
-  compare_cmd->add_option("--tolerance", tolerance, "Largest distance still 'same', in mesh units")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  compare_cmd->add_option("--metric", metric, "vertex: vertex i against vertex i; hausdorff: surfaces")
-      ->check(CLI::IsMember({"vertex", "hausdorff"}))
-      ->capture_default_str();
-  compare_cmd->add_flag("--json", compare_json, "Print the result as JSON");
-
-  std::string info_path;
-  bool info_json = false;
-  CLI::App* info_cmd = app.add_subcommand("info", "Print counts and measures of a mesh");
-  info_cmd->add_option("mesh", info_path, "Mesh file")->required();
-  info_cmd->add_flag("--json", info_json, "Print as JSON");
-
-  std::string validate_path;
-  bool resolved = false;
-  CLI::App* validate_cmd = app.add_subcommand("validate", "Check a script without running it");
-  validate_cmd->add_option("script", validate_path, "JSON script")->required();
-  validate_cmd->add_flag("--resolved", resolved, "Print the script with every default filled in");
-
-  bool markdown = false;
-  CLI::App* schema_cmd = app.add_subcommand("schema", "Print the script format's JSON Schema");
-  schema_cmd->add_flag("--markdown", markdown, "Print the script reference in Markdown instead");
+  Commands commands;
+  add_run(app, commands);
+  add_compare(app, commands);
+  add_script_commands(app, commands);
 
   try {
     app.parse(argc, argv);
@@ -160,20 +191,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run_cmd) {
-      ffd::run_script(run);
-      return 0;
-    }
-    if (*compare_cmd) return command_compare(a, b, tolerance, metric, compare_json);
-    if (*info_cmd) return command_info(info_path, info_json);
-    if (*validate_cmd) return command_validate(validate_path, resolved);
-    if (*schema_cmd) {
-      if (markdown)
-        std::cout << ffd::script_reference_markdown();
-      else
-        std::cout << ffd::script_schema().dump(2) << "\n";
-      return 0;
-    }
+    return dispatch(commands);
   } catch (const ffd::InputError& e) {
     return fail(2, e.what());
   } catch (const ffd::Error& e) {
@@ -183,5 +201,4 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     return fail(3, std::string("internal error: ") + e.what());
   }
-  return 0;
 }

@@ -22,6 +22,21 @@ namespace SMP = CGAL::Surface_mesh_parameterization;
                       {"laplacian"});
 }
 
+// The connected pieces of `n` vertices joined by `triangles` (union-find).
+std::size_t count_pieces(std::size_t n, const std::vector<Triangle>& triangles) {
+  std::vector<std::uint32_t> parent(n);
+  for (std::size_t v = 0; v < n; ++v) parent[v] = static_cast<std::uint32_t>(v);
+  const auto find = [&](std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Triangle& t : triangles)
+    for (int c = 1; c < 3; ++c) parent[find(t[c])] = find(t[0]);
+  std::size_t pieces = 0;
+  for (std::size_t v = 0; v < n; ++v) pieces += find(static_cast<std::uint32_t>(v)) == v;
+  return pieces;
+}
+
 }  // namespace
 
 Eigen::Matrix3Xd equal_diameter_conformal_map(const Eigen::Ref<const Eigen::Matrix3Xd>& positions,
@@ -35,16 +50,7 @@ Eigen::Matrix3Xd equal_diameter_conformal_map(const Eigen::Ref<const Eigen::Matr
       not_a_disk("its triangles meet at a vertex like a bow tie");
 
   // One piece, one boundary loop, V − E + F = 1.
-  std::vector<std::uint32_t> parent(static_cast<std::size_t>(n));
-  for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<std::uint32_t>(v);
-  const auto find = [&](std::uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const Triangle& t : triangles)
-    for (int c = 1; c < 3; ++c) parent[find(t[c])] = find(t[0]);
-  std::size_t pieces = 0;
-  for (std::size_t v = 0; v < parent.size(); ++v) pieces += find(static_cast<std::uint32_t>(v)) == v;
+  const std::size_t pieces = count_pieces(static_cast<std::size_t>(n), triangles);
   if (pieces != 1) not_a_disk("here it falls into " + std::to_string(pieces) + " pieces");
   std::vector<char> seen(sm.number_of_halfedges(), 0);
   std::size_t loops = 0;

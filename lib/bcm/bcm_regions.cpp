@@ -78,19 +78,12 @@ BcmRegions bcm_regions(const std::vector<std::uint32_t>& support, const std::vec
   return regions;
 }
 
-BcmStencil bcm_stencil(const Mesh& mesh, const VertexAdjacency& adjacency, const BcmRegions& regions, int k) {
-  const std::size_t n = mesh.num_vertices();
-  constexpr int kFar = 1 << 20;
-  std::vector<int> ring(n, kFar);
-  std::vector<int> handle_of(n, -1);
-  for (std::size_t h = 0; h < regions.handles.size(); ++h)
-    for (std::uint32_t v : regions.handles[h]) handle_of[v] = static_cast<int>(h);
-
-  // Each connected part of the free vertices must touch a constrained vertex; otherwise
-  // Δ^k has no boundary condition there and the system is singular.
-  std::vector<char> visited(n, 0);
+// Each connected part of the free vertices (ring 0) must touch a constrained vertex;
+// otherwise Δ^k has no boundary condition there and the system is singular.
+// \throw InputError about "support" naming the part's size and first vertex.
+static void require_anchored(const BcmRegions& regions, const VertexAdjacency& adjacency, const std::vector<int>& ring) {
+  std::vector<char> visited(ring.size(), 0);
   std::vector<std::uint32_t> queue;
-  for (std::uint32_t v : regions.free) ring[v] = 0;
   for (std::uint32_t seed : regions.free) {
     if (visited[seed]) continue;
     queue.assign(1, seed);
@@ -112,6 +105,18 @@ BcmStencil bcm_stencil(const Mesh& mesh, const VertexAdjacency& adjacency, const
                            "system); put a handle in it or leave some of its surroundings fixed",
                        {"support"});
   }
+}
+
+BcmStencil bcm_stencil(const Mesh& mesh, const VertexAdjacency& adjacency, const BcmRegions& regions, int k) {
+  const std::size_t n = mesh.num_vertices();
+  constexpr int kFar = 1 << 20;
+  std::vector<int> ring(n, kFar);
+  std::vector<int> handle_of(n, -1);
+  for (std::size_t h = 0; h < regions.handles.size(); ++h)
+    for (std::uint32_t v : regions.handles[h]) handle_of[v] = static_cast<int>(h);
+
+  for (std::uint32_t v : regions.free) ring[v] = 0;
+  require_anchored(regions, adjacency, ring);
 
   // Rings 1..k around the free set (breadth first).
   std::vector<std::uint32_t> frontier = regions.free, next;
