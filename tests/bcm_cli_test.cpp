@@ -162,32 +162,6 @@ std::string two_pieces() {
   return s + "f 26 27 28\n";
 }
 
-// An 8 × 8 grid of unit squares as quads.
-std::string quad_grid() {
-  std::string s;
-  for (int j = 0; j <= 8; ++j)
-    for (int i = 0; i <= 8; ++i) s += "v " + std::to_string(i) + " " + std::to_string(j) + " 0\n";
-  for (int j = 0; j < 8; ++j)
-    for (int i = 0; i < 8; ++i) {
-      const int a = j * 9 + i + 1;
-      s += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " + std::to_string(a + 10) + " " +
-           std::to_string(a + 9) + "\n";
-    }
-  return s;
-}
-
-std::string tri_grid(int n) {
-  std::string s;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) s += "v " + std::to_string(i) + " " + std::to_string(j) + " 0\n";
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
-      s += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + "\n";
-      s += "f " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(d) + "\n";
-    }
-  return s;
-}
 
 const char* kBackEditor = R"({"op": "bcm", "name": "back", "support": {"sphere": {"center": [1.24, 6.29, 1.05], "radius": 3.0}},
     "handles": [{"name": "hump", "select": {"sphere": {"center": [1.24, 6.29, 1.05], "radius": 0.7}}}]})";
@@ -221,11 +195,11 @@ TEST(BcmCli, BadInputExitsTwoWithOneLineNamingThePlaceAndWritesNothing) {
        script_with(R"({"op": "bcm", "name": "e", "support": [{"box": {"min": [0, 0, -1], "max": [2, 2, 1]}},
           {"box": {"min": [9, 9, -1], "max": [12, 12, 1]}}], "handles": [{"name": "h", "select": {"near": [1, 1, 0]}}]})"),
        {"/steps/0/support:", "touches no fixed or handle vertex", "3 free vertices"}},
-      {"quads in the support", quad_grid(),
+      {"quads in the support", test::grid_obj(8, true),
        script_with(R"({"op": "bcm", "name": "e", "support": {"box": {"min": [2, 2, -1], "max": [6, 6, 1]}},
           "handles": [{"name": "h", "select": {"near": [4, 4, 0]}}]})"),
        {"/steps/0/support:", "4 sides", "triangles"}},
-      {"anisotropic on an annulus", tri_grid(12),
+      {"anisotropic on an annulus", test::grid_obj(12),
        script_with(R"({"op": "bcm", "name": "e", "laplacian": "anisotropic", "k": 1,
           "support": [{"box": {"min": [1, 1, -1], "max": [11, 3, 1]}}, {"box": {"min": [1, 9, -1], "max": [11, 11, 1]}},
                       {"box": {"min": [1, 1, -1], "max": [3, 11, 1]}}, {"box": {"min": [9, 1, -1], "max": [11, 11, 1]}}],
@@ -341,7 +315,7 @@ TEST(BcmCli, TransformAfterAConnectivityChangeIsAnInputError) {
 TEST(BcmCli, FigureOneConfigurationsFromScripts) {
   constexpr int n = 30;
   const std::string dir = temp_folder("bcm_figure1");
-  write_file(dir + "/grid.obj", tri_grid(n));
+  write_file(dir + "/grid.obj", test::grid_obj(n));
   struct Shape {
     double outer_slope = 0, inner_drop = 0;
   };

@@ -58,20 +58,6 @@ std::string case_folder(const std::string& name, const std::string& script) {
   return dir;
 }
 
-// An n × n grid of unit squares, two triangles each, as OBJ text.
-std::string grid_obj(int n, bool quads = false) {
-  std::string s;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) s += "v " + std::to_string(i) + " " + std::to_string(j) + " 0\n";
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
-      const std::string A = std::to_string(a), B = std::to_string(b), C = std::to_string(c), D = std::to_string(d);
-      s += quads ? "f " + A + " " + B + " " + C + " " + D + "\n" : "f " + A + " " + B + " " + C + "\nf " + A + " " + C + " " + D + "\n";
-    }
-  return s;
-}
-
 // InputError about an argument of the BCM editor (element 0 of its handles).
 TEST(ErrorPlacement, InputErrorAboutAnAlgorithmsArgumentNamesItsKey) {
   const std::string dir = case_folder("place_input", script_with(R"({"op": "bcm", "name": "e",
@@ -108,7 +94,7 @@ TEST(ErrorPlacement, TopologyErrorIsAnInputErrorAtTheSupport) {
   const std::string script = script_with(R"({"op": "bcm", "name": "e", "support": {"box": {"min": [2, 2, -1], "max": [6, 6, 1]}},
       "handles": [{"name": "h", "select": {"near": [4, 4, 0]}}]})");
   const std::string dir = case_folder("place_topology", script);
-  write_file(dir + "/quads.obj", grid_obj(8, true));
+  write_file(dir + "/quads.obj", test::grid_obj(8, true));
   expect_error(run_limited(dir, dir + "/quads.obj", "true"), 2, dir + "/s.json: /steps/0/support", "4 sides");
 
   const Script parsed = parse_script(script, "s.json");
@@ -131,7 +117,7 @@ TEST(ErrorPlacement, SolverErrorExitsThreeAtTheStep) {
   const std::string dir = case_folder("place_solver", script_with(R"({"op": "bcm", "name": "e", "detail": false,
       "support": {"box": {"min": [2, 2, -1], "max": [198, 198, 1]}},
       "handles": [{"name": "h", "select": {"sphere": {"center": [100, 100, 0], "radius": 3}}}]})"));
-  write_file(dir + "/grid.obj", grid_obj(200));
+  write_file(dir + "/grid.obj", test::grid_obj(200));
   bool solver_failed = false;
   for (int kb = 240000; kb >= 60000 && !solver_failed; kb -= 10000) {
     const Outcome o = run_limited(dir, dir + "/grid.obj",

@@ -128,6 +128,19 @@ int run_tool(const std::string& args, std::string* out, std::string* err) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+std::string grid_obj(int n, bool quads) {
+  std::string s;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s += "v " + std::to_string(i) + " " + std::to_string(j) + " 0\n";
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::string a = std::to_string(j * (n + 1) + i + 1), b = std::to_string(j * (n + 1) + i + 2),
+                        c = std::to_string((j + 1) * (n + 1) + i + 2), d = std::to_string((j + 1) * (n + 1) + i + 1);
+      s += quads ? "f " + a + " " + b + " " + c + " " + d + "\n" : "f " + a + " " + b + " " + c + "\nf " + a + " " + c + " " + d + "\n";
+    }
+  return s;
+}
+
 std::string quoted(const std::string& path) { return "'" + path + "'"; }
 
 std::set<std::string> files_in(const std::string& dir) {

@@ -18,6 +18,10 @@ PolygonSoup grid_soup(int n, const std::function<double(double, double)>& height
                       bool quads = false);
 Mesh grid_mesh(int n, const std::function<double(double, double)>& height = nullptr, bool quads = false);
 
+/// OBJ text of an n × n grid of unit squares on z = 0, vertex (i, j) at (i, j, 0): two
+/// triangles per square, or one quad.
+std::string grid_obj(int n, bool quads = false);
+
 /// A unit icosphere (radius 1 at the origin) subdivided `levels` times.
 Mesh sphere_mesh(int levels);
 
