@@ -11,7 +11,7 @@
 #include "common/errors.h"
 #include "common/timer.h"
 #include "mesh/mesh_storage.h"
-#include "warp/lattice.h"
+#include "warp/warp_stack_storage.h"
 
 namespace ffd {
 namespace {
@@ -59,16 +59,7 @@ public:
     // chord L and sagitta (L/2)·tan(θ/4); the two faces' distances add to L·tan(θ/4).
     tan_max_ = std::tan(options.theta_max_deg * deg / 4);
     tan_min_ = std::tan(options.theta_min_deg * deg / 4);
-    for (std::size_t k = 0; k < stack.size(); ++k)
-      if (const auto* lattice = dynamic_cast<const Lattice*>(&stack.warp(k))) {
-        Domain d;
-        d.lattice = lattice;
-        d.input = k == 0 ? s_.rest
-                         : sm_.property_map<VertexIndex, Eigen::Vector3d>(
-                                   vec3_attribute_property(stack.input_attribute(k)))
-                               .first;
-        domains_.push_back(d);
-      }
+    for (std::size_t k = 0; k < stack.size(); ++k) domains_.push_back({&stack.warp(k), warp_input_positions(s_, k)});
     l_max_ = options.l_max ? *options.l_max : smallest_cell_extent(stack);
     stats_.l_max = l_max_;
   }
@@ -76,9 +67,10 @@ public:
   void run();
 
 private:
+  // A warp and where the mesh's vertices are in its input space.
   struct Domain {
-    const Lattice* lattice;
-    SurfaceMesh::Property_map<VertexIndex, Eigen::Vector3d> input;
+    const Warp* warp;
+    Vec3Property input;
   };
 
   Eigen::Vector3d pos(VertexIndex v) const { return to_eigen(sm_.point(v)); }
@@ -130,28 +122,10 @@ private:
   std::priority_queue<HeapEntry, std::vector<HeapEntry>, HeapOrder> heap_;
 };
 
-// Does segment bc meet a lattice's box (in that lattice's input space)? Slab test in box
-// coordinates, with the boxes' face tolerance.
+// Can some warp act on segment bc (in that warp's input space)?
 bool Remesher::in_domain(VertexIndex b, VertexIndex c) const {
-  for (const Domain& d : domains_) {
-    const Parallelepiped& box = d.lattice->box();
-    const Eigen::Vector3d ub = box.to_local(d.input[b]), uc = box.to_local(d.input[c]);
-    double t0 = 0, t1 = 1;
-    bool hit = true;
-    for (int a = 0; a < 3 && hit; ++a) {
-      const double lo = -kBoxTolerance, hi = 1 + kBoxTolerance, delta = uc[a] - ub[a];
-      if (delta == 0) {
-        hit = ub[a] >= lo && ub[a] <= hi;
-        continue;
-      }
-      double ta = (lo - ub[a]) / delta, tb = (hi - ub[a]) / delta;
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta);
-      t1 = std::min(t1, tb);
-      hit = t0 <= t1;
-    }
-    if (hit) return true;
-  }
+  for (const Domain& d : domains_)
+    if (d.warp->can_act_on_segment(d.input[b], d.input[c])) return true;
   return false;
 }
 
@@ -583,14 +557,10 @@ void Remesher::run() {
 
 double smallest_cell_extent(const WarpStack& stack) {
   double best = 0;
-  for (std::size_t k = 0; k < stack.size(); ++k)
-    if (const auto* lattice = dynamic_cast<const Lattice*>(&stack.warp(k))) {
-      const Eigen::Vector3d extents = lattice->box().extents();
-      for (int a = 0; a < 3; ++a) {
-        const double cell = extents[a] / lattice->cells()[a];
-        if (best == 0 || cell < best) best = cell;
-      }
-    }
+  for (std::size_t k = 0; k < stack.size(); ++k) {
+    const double size = stack.warp(k).feature_size();
+    if (size > 0 && (best == 0 || size < best)) best = size;
+  }
   return best;
 }
 
