@@ -5,7 +5,8 @@
 // - sm.points() holds the current (deformed) positions;
 // - a corner of a face is the halfedge h with face(h) == f, at vertex target(h);
 // - "h:uv" / "h:vn" hold per-corner indices into `uvs` / `file_normals`, -1 for none;
-// - "f:group" indexes `groups` (OBJ statements in force for the face), -1 for none.
+// - "f:group" indexes `groups` (OBJ statements in force for the face), -1 for none;
+// - the declared attributes of mesh.h (mesh_attribute::*) are properties of those names.
 // The mesh never keeps garbage between steps: an op that removes elements calls
 // sm.collect_garbage() before it returns, so indices are dense 0..n-1.
 #pragma once

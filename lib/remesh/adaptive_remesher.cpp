@@ -16,7 +16,7 @@
 namespace ffd {
 namespace {
 
-using Level = std::uint8_t;
+using Level = RefinementLevel;
 
 // A face corner's attributes: indices into the UV and file-normal tables.
 struct Corner {
@@ -32,20 +32,38 @@ struct FaceRecord {
   std::uint32_t start = 0;
 };
 
-// Levels and flags live in the mesh as properties, so they follow every change.
+// The mesh's declared refinement attributes (mesh.h): they live in the mesh as
+// properties, so they follow every change, and persist for the next remesh step.
 struct Properties {
   SurfaceMesh::Property_map<VertexIndex, Level> vertex_level;
   SurfaceMesh::Property_map<EdgeIndex, Level> edge_level;
   SurfaceMesh::Property_map<FaceIndex, std::uint32_t> start;  // a face's first vertex, kept through splits
 
   explicit Properties(SurfaceMesh& sm) {
-    vertex_level = sm.add_property_map<VertexIndex, Level>("v:level", 0).first;
-    edge_level = sm.add_property_map<EdgeIndex, Level>("e:level", 0).first;
+    vertex_level = sm.add_property_map<VertexIndex, Level>(mesh_attribute::kVertexLevel, 0).first;
+    edge_level = sm.add_property_map<EdgeIndex, Level>(mesh_attribute::kEdgeLevel, 0).first;
     bool created;
-    std::tie(start, created) = sm.add_property_map<FaceIndex, std::uint32_t>("f:start", 0);
+    std::tie(start, created) = sm.add_property_map<FaceIndex, std::uint32_t>(mesh_attribute::kFaceStart, 0);
     if (created)
       for (FaceIndex f : sm.faces()) start[f] = sm.target(sm.halfedge(f)).idx();
   }
+};
+
+// A scratch property, removed when it goes out of scope (on an exception too), so no
+// scratch data outlives the op (mesh.h).
+template <class Key, class Value>
+class ScratchProperty {
+public:
+  ScratchProperty(SurfaceMesh& sm, const std::string& name)
+      : sm_(sm), map_(sm.add_property_map<Key, Value>(name).first) {}
+  ~ScratchProperty() { sm_.remove_property_map(map_); }
+  ScratchProperty(const ScratchProperty&) = delete;
+  ScratchProperty& operator=(const ScratchProperty&) = delete;
+  SurfaceMesh::Property_map<Key, Value>& map() { return map_; }
+
+private:
+  SurfaceMesh& sm_;
+  SurfaceMesh::Property_map<Key, Value> map_;
 };
 
 class Remesher {
@@ -229,20 +247,21 @@ void Remesher::triangulate() {
   stats_.triangulated_faces = polygons.size();
   std::map<std::uint32_t, FaceRecord> records;
   for (FaceIndex f : polygons) records[f.idx()] = record(f);
-  auto rest_point = sm_.add_property_map<VertexIndex, Point3>("v:ffd_rest_point").first;
-  for (VertexIndex v : sm_.vertices()) rest_point[v] = to_point(s_.rest[v]);
-
   std::vector<std::pair<FaceIndex, FaceIndex>> made;  // (new face, its polygon)
-  struct Visitor {
-    std::vector<std::pair<FaceIndex, FaceIndex>>* made;
-    FaceIndex current;
-    void before_subface_creations(FaceIndex f) { current = f; }
-    void after_subface_created(FaceIndex f) { made->emplace_back(f, current); }
-    void after_subface_creations() {}
-  };
-  CGAL::Polygon_mesh_processing::triangulate_faces(
-      polygons, sm_, CGAL::parameters::vertex_point_map(rest_point).visitor(Visitor{&made, FaceIndex()}));
-  sm_.remove_property_map(rest_point);
+  {
+    ScratchProperty<VertexIndex, Point3> scratch(sm_, "v:ffd_rest_point");
+    auto& rest_point = scratch.map();
+    for (VertexIndex v : sm_.vertices()) rest_point[v] = to_point(s_.rest[v]);
+    struct Visitor {
+      std::vector<std::pair<FaceIndex, FaceIndex>>* made;
+      FaceIndex current;
+      void before_subface_creations(FaceIndex f) { current = f; }
+      void after_subface_created(FaceIndex f) { made->emplace_back(f, current); }
+      void after_subface_creations() {}
+    };
+    CGAL::Polygon_mesh_processing::triangulate_faces(
+        polygons, sm_, CGAL::parameters::vertex_point_map(rest_point).visitor(Visitor{&made, FaceIndex()}));
+  }
 
   std::vector<std::pair<FaceIndex, FaceIndex>> all = made;
   for (FaceIndex f : polygons) all.emplace_back(f, f);
@@ -573,7 +592,7 @@ RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOpti
 std::vector<int> vertex_levels(const Mesh& mesh) {
   const SurfaceMesh& sm = mesh.storage().sm;
   std::vector<int> levels(sm.number_of_vertices(), 0);
-  auto map = sm.property_map<VertexIndex, Level>("v:level");
+  auto map = sm.property_map<VertexIndex, Level>(mesh_attribute::kVertexLevel);
   if (map.second)
     for (VertexIndex v : sm.vertices()) levels[v.idx()] = map.first[v];
   return levels;

@@ -24,6 +24,9 @@
 //   deformed and diverging by more than θmax) is skipped, so a step never leaves an edge
 //   its own trigger would split and remeshing does not oscillate.
 // - Polygon faces are triangulated first (counted in the stats).
+// - Levels and face starts are the mesh's declared attributes (mesh.h: mesh_attribute)
+//   and stay on the mesh for the next remesh step; scratch data is removed before
+//   adaptive_remesh returns.
 // - Deterministic: ties in edge length break by edge index, candidates by vertex index.
 #pragma once
 
