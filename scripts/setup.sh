@@ -9,6 +9,7 @@ packages=(
   libcgal-dev libeigen3-dev libsuitesparse-dev
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev
   libgtest-dev libgmock-dev
+  python3
 )
 
 missing=()

@@ -61,191 +61,230 @@ double median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
+// The bunny case's regions: the support is the `support_size` vertices nearest to the
+// vertex farthest from the centroid (a geodesic-like cap over most of the model), the
+// handle the nearest `handle_size` of them; everything else is fixed.
+struct Regions {
+  std::vector<std::uint32_t> support, handle;  // sorted vertex indices
+  double diagonal = 0;                         // of the mesh's bounding box
+};
+
+// The cap regions of `mesh` (see Regions).
+Regions cap_regions(const Mesh& mesh, std::size_t support_size, std::size_t handle_size) {
+  const auto positions = mesh.positions();
+  const Eigen::Vector3d centroid = positions.rowwise().mean();
+  Eigen::Index apex = 0;
+  (positions.colwise() - centroid).colwise().squaredNorm().maxCoeff(&apex);
+  std::vector<std::uint32_t> order(mesh.num_vertices());
+  std::iota(order.begin(), order.end(), 0u);
+  const Eigen::VectorXd distance = (positions.colwise() - positions.col(apex)).colwise().squaredNorm().transpose();
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b]; });
+  Regions r;
+  r.support = std::vector<std::uint32_t>(order.begin(), order.begin() + static_cast<long>(support_size));
+  r.handle = std::vector<std::uint32_t>(order.begin(), order.begin() + static_cast<long>(handle_size));
+  std::sort(r.support.begin(), r.support.end());
+  std::sort(r.handle.begin(), r.handle.end());
+  r.diagonal = (positions.rowwise().maxCoeff() - positions.rowwise().minCoeff()).norm();
+  return r;
+}
+
+// Largest distance, over the free vertices, between `ours` (the basis update) and the
+// editor's direct solve.
+double basis_vs_direct(const BcmEditor& editor, const Eigen::Matrix3Xd& ours) {
+  const Eigen::Matrix3Xd direct = editor.solve_free();
+  double largest = 0;
+  for (std::size_t i = 0; i < editor.free_vertices().size(); ++i)
+    largest = std::max(largest, (ours.col(editor.free_vertices()[i]) - direct.col(static_cast<Eigen::Index>(i))).norm());
+  return largest;
+}
+
+// CGAL's fair on the same free vertices, and how far our result is from it.
+struct FairBaseline {
+  double ms = 0, setup_weights_ms = 0;
+  bool ok = false, setup_weights_ok = false;
+  double difference = 0, setup_difference = 0;  // max |ours - fair| over the free vertices
+  double displacement = 0;                      // max |ours - rest|
+};
+
+// Baseline: CGAL's fair on the same free vertices with the handle at `pose`,
+// continuity k−1 (Δ^k, C^(k−1) at every boundary), solved from scratch with its
+// default sparse LU: what a user pays per frame without precomputed bases. fair takes
+// its cotangent weights from the mesh as it is when called (the handle already moved),
+// so a second run with weights from the setup surface shows that both solve the same
+// system (differences: CGAL keeps negative weights and clamps angles at 2.6°).
+// One run each: they take seconds.
+FairBaseline fair_baseline(const Mesh& mesh, const std::vector<std::uint32_t>& handle,
+                           const std::vector<std::uint32_t>& free, const Pose& pose, int k,
+                           const Eigen::Matrix3Xd& ours) {
+  const auto positions = mesh.positions();
+  Mesh copy = mesh.clone();
+  SurfaceMesh& sm = copy.storage().sm;
+  auto cpos = copy.positions();
+  for (std::uint32_t v : handle) cpos.col(v) = pose.linear * positions.col(v) + pose.translation;
+  std::vector<VertexIndex> fair_vertices;
+  for (std::uint32_t v : free) fair_vertices.push_back(VertexIndex(v));
+  Mesh setup_copy = copy.clone();
+  FairBaseline b;
+  Stopwatch fair_clock;
+  b.ok = CGAL::Polygon_mesh_processing::fair(sm, fair_vertices,
+                                             CGAL::parameters::fairing_continuity(static_cast<unsigned>(k - 1)));
+  b.ms = fair_clock.ms();
+  SurfaceMesh& setup_sm = setup_copy.storage().sm;
+  auto setup_points = setup_sm.add_property_map<VertexIndex, Point3>("v:bench_setup").first;
+  for (VertexIndex v : setup_sm.vertices()) setup_points[v] = to_point(positions.col(v.idx()));
+  using SetupWeights =
+      CGAL::Weights::Secure_cotangent_weight_with_voronoi_area<SurfaceMesh, decltype(setup_points)>;
+  Stopwatch setup_fair_clock;
+  b.setup_weights_ok = CGAL::Polygon_mesh_processing::fair(
+      setup_sm, fair_vertices,
+      CGAL::parameters::fairing_continuity(static_cast<unsigned>(k - 1))
+          .weight_calculator(SetupWeights(setup_sm, setup_points)));
+  b.setup_weights_ms = setup_fair_clock.ms();
+  for (std::uint32_t v : free) {
+    b.difference = std::max(b.difference, (ours.col(v) - copy.positions().col(v)).norm());
+    b.setup_difference = std::max(b.setup_difference, (ours.col(v) - setup_copy.positions().col(v)).norm());
+    b.displacement = std::max(b.displacement, (ours.col(v) - positions.col(v)).norm());
+  }
+  return b;
+}
+
+// One k = 1, 2, 3 cotan row on the cap regions: setup, per-frame cost (a fresh random
+// 9-dof pose each frame) with and without detail, and the fair baseline.
+json cotan_row(const Mesh& mesh, const std::string& name, const Regions& r, int k, int frames) {
+  BcmOptions options;
+  options.k = k;
+  options.detail = false;
+  Stopwatch clock;
+  BcmEditor editor(mesh, r.support, {{"handle", r.handle}}, options);
+  const double setup_ms = clock.ms();
+  const BcmEditor::Stats stats = editor.stats();
+
+  // Per frame: the dense update alone.
+  Eigen::Matrix3Xd pos = mesh.positions();
+  Pose pose{};
+  const double frame_ms = median_frame_ms(editor, pos, 0.05 * r.diagonal, frames, pose);
+  const Eigen::Matrix3Xd ours = pos;
+  const double direct = basis_vs_direct(editor, ours);
+
+  // The same with multiresolution detail (its own setup: detail encoding included).
+  options.detail = true;
+  Stopwatch detail_clock;
+  BcmEditor detailed(mesh, r.support, {{"handle", r.handle}}, options);
+  const double detail_setup_ms = detail_clock.ms();
+  Eigen::Matrix3Xd dpos = mesh.positions();
+  Pose detail_pose{};
+  const double detail_frame_ms = median_frame_ms(detailed, dpos, 0.05 * r.diagonal, frames, detail_pose);
+
+  const FairBaseline fair = fair_baseline(mesh, r.handle, editor.free_vertices(), pose, k, ours);
+  // Precompute: the whole setup (regions, Laplacian, system, factorization, basis).
+  const double precompute_ms = setup_ms;
+  return {{"case", "k=" + std::to_string(k) + " cotan, C^" + std::to_string(k - 1) + " boundaries"},
+          {"mesh", name},
+          {"vertices", mesh.num_vertices()},
+          {"support_vertices", r.support.size()},
+          {"free_vertices", stats.free_vertices},
+          {"handle_vertices", stats.handle_vertices},
+          {"fixed_vertices_in_rings", stats.fixed_vertices},
+          {"solver", stats.solver},
+          {"system_nonzeros", stats.system_nonzeros},
+          {"factor_nonzeros", stats.factor_nonzeros},
+          {"regions_ms", stats.regions_ms},
+          {"laplacian_ms", stats.laplacian_ms},
+          {"system_ms", stats.system_ms},
+          {"factorization_ms", stats.factor_ms},
+          {"basis_ms", stats.basis_ms},
+          {"precompute_ms", precompute_ms},
+          {"ms_per_frame", frame_ms},
+          {"precompute_with_detail_ms", detail_setup_ms},
+          {"ms_per_frame_with_detail", detail_frame_ms},
+          {"basis_vs_direct_solve_max", direct},
+          {"baseline_fair_ms", fair.ms},
+          {"baseline_fair_ok", fair.ok},
+          {"fair_over_precompute", fair.ms / precompute_ms},
+          {"fair_over_frame", fair.ms / frame_ms},
+          {"max_displacement", fair.displacement},
+          {"max_difference_vs_fair", fair.difference},
+          {"fair_with_setup_weights_ms", fair.setup_weights_ms},
+          {"fair_with_setup_weights_ok", fair.setup_weights_ok},
+          {"max_difference_vs_fair_with_setup_weights", fair.setup_difference},
+          {"targets", {{"precompute_ms_at_most", 1000}, {"ms_per_frame_at_most", 0.5}}}};
+}
+
+// A wavy 4:1 strip of nx × nx/4 quads split into triangles, with its support (all but a
+// 3-vertex border) and a handle disc of radius 0.08 at its centre.
+Mesh wavy_strip(int nx, std::vector<std::uint32_t>& support, std::vector<std::uint32_t>& handle) {
+  const int ny = nx / 4;
+  PolygonSoup soup;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const double x = 4.0 * i / nx, y = 1.0 * j / ny;
+      soup.positions.emplace_back(x, y, 0.05 * std::sin(3 * x) * std::cos(2 * y));
+      const bool border = i < 3 || j < 3 || i > nx - 3 || j > ny - 3;
+      if (!border) support.push_back(static_cast<std::uint32_t>(j * (nx + 1) + i));
+      if (std::hypot(x - 2.0, y - 0.5) < 0.08) handle.push_back(static_cast<std::uint32_t>(j * (nx + 1) + i));
+    }
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (nx + 1) + a); };
+      soup.faces.push_back({{at(i, j), at(i + 1, j), at(i + 1, j + 1)}, {}, {}});
+      soup.faces.push_back({{at(i, j), at(i + 1, j + 1), at(i, j + 1)}, {}, {}});
+    }
+  return build_mesh(soup, "strip");
+}
+
+// The other setups at k = 3, without a baseline: a blended outer boundary on the cap
+// regions (c = 1: an unsymmetric system, LU), and the anisotropic Laplacian (LSCM of
+// the support first). A conformal map of most of a closed bunny is far too distorted to
+// discretize on (areas spanning 15 orders of magnitude), so the anisotropic case runs on
+// what it is meant for: an elongated, nearly developable part, here a wavy 4:1 strip
+// with a support of the same size.
+json variant_row(const Context& ctx, bool anisotropic, const Mesh& mesh, const std::string& name,
+                 const Regions& r, int frames) {
+  BcmOptions options;
+  options.k = 3;
+  options.detail = false;
+  Mesh strip;
+  std::vector<std::uint32_t> strip_support, strip_handle;
+  if (anisotropic) {
+    options.laplacian = LaplacianKind::Anisotropic;
+    strip = wavy_strip(ctx.quick ? 140 : 380, strip_support, strip_handle);
+  } else {
+    options.outer_continuity = 1;
+  }
+  const Mesh& target = anisotropic ? strip : mesh;
+  const std::vector<BcmHandle> handles = {{"handle", anisotropic ? strip_handle : r.handle}};
+  Stopwatch clock;
+  BcmEditor editor(target, anisotropic ? strip_support : r.support, handles, options);
+  const double setup_ms = clock.ms();
+  Eigen::Matrix3Xd pos = target.positions();
+  Pose pose{};
+  const double frame_ms = median_frame_ms(editor, pos, 0.05 * r.diagonal, frames, pose);
+  const BcmEditor::Stats& stats = editor.stats();
+  return {{"case", anisotropic ? "k=3 anisotropic, C^2 boundaries" : "k=3 cotan, C^1 outer / C^2 inner (unsymmetric)"},
+          {"mesh", anisotropic ? "wavy 4:1 strip (synthetic)" : name},
+          {"free_vertices", stats.free_vertices},
+          {"solver", stats.solver},
+          {"regions_ms", stats.regions_ms},
+          {"laplacian_ms", stats.laplacian_ms},
+          {"system_ms", stats.system_ms},
+          {"factorization_ms", stats.factor_ms},
+          {"basis_ms", stats.basis_ms},
+          {"precompute_ms", setup_ms},
+          {"ms_per_frame", frame_ms}};
+}
+
 }  // namespace
 
 void bench_bcm(Context& ctx) {
   json rows = json::array();
   const std::string name = "bunny00.off";
   const Mesh mesh = load(ctx, name);
-  const std::size_t n = mesh.num_vertices();
   const std::size_t support_size = ctx.quick ? 5000 : 35000;
   const std::size_t handle_size = std::max<std::size_t>(10, support_size / 100);
   const int frames = ctx.quick ? 50 : 500;
-
-  // Regions: the support is the `support_size` vertices nearest to the vertex farthest
-  // from the centroid (a geodesic-like cap over most of the model), the handle the
-  // nearest 1% of them; everything else is fixed.
-  const auto positions = mesh.positions();
-  const Eigen::Vector3d centroid = positions.rowwise().mean();
-  Eigen::Index apex = 0;
-  (positions.colwise() - centroid).colwise().squaredNorm().maxCoeff(&apex);
-  std::vector<std::uint32_t> order(n);
-  std::iota(order.begin(), order.end(), 0u);
-  const Eigen::VectorXd distance = (positions.colwise() - positions.col(apex)).colwise().squaredNorm().transpose();
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b]; });
-  std::vector<std::uint32_t> support(order.begin(), order.begin() + static_cast<long>(support_size));
-  std::vector<std::uint32_t> handle(order.begin(), order.begin() + static_cast<long>(handle_size));
-  std::sort(support.begin(), support.end());
-  std::sort(handle.begin(), handle.end());
-  const double diagonal = (positions.rowwise().maxCoeff() - positions.rowwise().minCoeff()).norm();
-
-  for (int k = 1; k <= 3; ++k) {
-    BcmOptions options;
-    options.k = k;
-    options.detail = false;
-    Stopwatch clock;
-    BcmEditor editor(mesh, support, {{"handle", handle}}, options);
-    const double setup_ms = clock.ms();
-    const BcmEditor::Stats stats = editor.stats();
-
-    // Per frame: the dense update alone (a fresh random 9-dof pose each frame).
-    Eigen::Matrix3Xd pos = positions;
-    Pose pose{};
-    const double frame_ms = median_frame_ms(editor, pos, 0.05 * diagonal, frames, pose);
-    const Eigen::Matrix3Xd ours = pos;
-    const Eigen::Matrix3Xd direct = editor.solve_free();
-    double basis_vs_direct = 0;
-    for (std::size_t i = 0; i < editor.free_vertices().size(); ++i)
-      basis_vs_direct = std::max(basis_vs_direct, (ours.col(editor.free_vertices()[i]) - direct.col(static_cast<Eigen::Index>(i))).norm());
-
-    // The same with multiresolution detail (its own setup: detail encoding included).
-    options.detail = true;
-    Stopwatch detail_clock;
-    BcmEditor detailed(mesh, support, {{"handle", handle}}, options);
-    const double detail_setup_ms = detail_clock.ms();
-    Eigen::Matrix3Xd dpos = positions;
-    Pose detail_pose{};
-    const double detail_frame_ms = median_frame_ms(detailed, dpos, 0.05 * diagonal, frames, detail_pose);
-
-    // Baseline: CGAL's fair on the same free vertices with the handle at the last pose,
-    // continuity k−1 (Δ^k, C^(k−1) at every boundary), solved from scratch with its
-    // default sparse LU: what a user pays per frame without precomputed bases. fair takes
-    // its cotangent weights from the mesh as it is when called (the handle already moved),
-    // so a second run with weights from the setup surface shows that both solve the same
-    // system (differences: CGAL keeps negative weights and clamps angles at 2.6°).
-    // One run each: they take seconds.
-    Mesh copy = mesh.clone();
-    SurfaceMesh& sm = copy.storage().sm;
-    auto cpos = copy.positions();
-    for (std::uint32_t v : handle) cpos.col(v) = pose.linear * positions.col(v) + pose.translation;
-    std::vector<VertexIndex> fair_vertices;
-    for (std::uint32_t v : editor.free_vertices()) fair_vertices.push_back(VertexIndex(v));
-    Mesh setup_copy = copy.clone();
-    Stopwatch fair_clock;
-    const bool fair_ok = CGAL::Polygon_mesh_processing::fair(
-        sm, fair_vertices, CGAL::parameters::fairing_continuity(static_cast<unsigned>(k - 1)));
-    const double fair_ms = fair_clock.ms();
-    SurfaceMesh& setup_sm = setup_copy.storage().sm;
-    auto setup_points = setup_sm.add_property_map<VertexIndex, Point3>("v:bench_setup").first;
-    for (VertexIndex v : setup_sm.vertices()) setup_points[v] = to_point(positions.col(v.idx()));
-    using SetupWeights =
-        CGAL::Weights::Secure_cotangent_weight_with_voronoi_area<SurfaceMesh, decltype(setup_points)>;
-    Stopwatch setup_fair_clock;
-    const bool setup_fair_ok = CGAL::Polygon_mesh_processing::fair(
-        setup_sm, fair_vertices,
-        CGAL::parameters::fairing_continuity(static_cast<unsigned>(k - 1))
-            .weight_calculator(SetupWeights(setup_sm, setup_points)));
-    const double setup_fair_ms = setup_fair_clock.ms();
-    double difference = 0, setup_difference = 0, displacement = 0;
-    for (std::uint32_t v : editor.free_vertices()) {
-      difference = std::max(difference, (ours.col(v) - copy.positions().col(v)).norm());
-      setup_difference = std::max(setup_difference, (ours.col(v) - setup_copy.positions().col(v)).norm());
-      displacement = std::max(displacement, (ours.col(v) - positions.col(v)).norm());
-    }
-
-    // Precompute: the whole setup (regions, Laplacian, system, factorization, basis).
-    const double precompute_ms = setup_ms;
-    json row = {{"case", "k=" + std::to_string(k) + " cotan, C^" + std::to_string(k - 1) + " boundaries"},
-                {"mesh", name},
-                {"vertices", n},
-                {"support_vertices", support.size()},
-                {"free_vertices", stats.free_vertices},
-                {"handle_vertices", stats.handle_vertices},
-                {"fixed_vertices_in_rings", stats.fixed_vertices},
-                {"solver", stats.solver},
-                {"system_nonzeros", stats.system_nonzeros},
-                {"factor_nonzeros", stats.factor_nonzeros},
-                {"regions_ms", stats.regions_ms},
-                {"laplacian_ms", stats.laplacian_ms},
-                {"system_ms", stats.system_ms},
-                {"factorization_ms", stats.factor_ms},
-                {"basis_ms", stats.basis_ms},
-                {"precompute_ms", precompute_ms},
-                {"ms_per_frame", frame_ms},
-                {"precompute_with_detail_ms", detail_setup_ms},
-                {"ms_per_frame_with_detail", detail_frame_ms},
-                {"basis_vs_direct_solve_max", basis_vs_direct},
-                {"baseline_fair_ms", fair_ms},
-                {"baseline_fair_ok", fair_ok},
-                {"fair_over_precompute", fair_ms / precompute_ms},
-                {"fair_over_frame", fair_ms / frame_ms},
-                {"max_displacement", displacement},
-                {"max_difference_vs_fair", difference},
-                {"fair_with_setup_weights_ms", setup_fair_ms},
-                {"fair_with_setup_weights_ok", setup_fair_ok},
-                {"max_difference_vs_fair_with_setup_weights", setup_difference},
-                {"targets", {{"precompute_ms_at_most", 1000}, {"ms_per_frame_at_most", 0.5}}}};
-    rows.push_back(row);
-  }
-  // The other setups at k = 3, without a baseline: a blended outer boundary on the same
-  // support (c = 1: an unsymmetric system, LU), and the anisotropic Laplacian (LSCM of
-  // the support first). A conformal map of most of a closed bunny is far too distorted to
-  // discretize on (areas spanning 15 orders of magnitude), so the anisotropic case runs on
-  // what it is meant for: an elongated, nearly developable part, here a wavy 4:1 strip
-  // with a support of the same size.
-  for (const char* variant : {"blended", "anisotropic"}) {
-    const bool anisotropic = std::string(variant) == "anisotropic";
-    BcmOptions options;
-    options.k = 3;
-    options.detail = false;
-    Mesh strip;
-    std::vector<std::uint32_t> strip_support, strip_handle;
-    if (anisotropic) {
-      options.laplacian = LaplacianKind::Anisotropic;
-      const int nx = ctx.quick ? 140 : 380, ny = nx / 4;
-      PolygonSoup soup;
-      for (int j = 0; j <= ny; ++j)
-        for (int i = 0; i <= nx; ++i) {
-          const double x = 4.0 * i / nx, y = 1.0 * j / ny;
-          soup.positions.emplace_back(x, y, 0.05 * std::sin(3 * x) * std::cos(2 * y));
-          const bool border = i < 3 || j < 3 || i > nx - 3 || j > ny - 3;
-          if (!border) strip_support.push_back(static_cast<std::uint32_t>(j * (nx + 1) + i));
-          if (std::hypot(x - 2.0, y - 0.5) < 0.08) strip_handle.push_back(static_cast<std::uint32_t>(j * (nx + 1) + i));
-        }
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
-          const auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (nx + 1) + a); };
-          SoupFace f1, f2;
-          f1.vertices = {at(i, j), at(i + 1, j), at(i + 1, j + 1)};
-          f2.vertices = {at(i, j), at(i + 1, j + 1), at(i, j + 1)};
-          soup.faces.push_back(f1);
-          soup.faces.push_back(f2);
-        }
-      strip = build_mesh(soup, "strip");
-    } else {
-      options.outer_continuity = 1;
-    }
-    const Mesh& target = anisotropic ? strip : mesh;
-    const std::vector<BcmHandle> handles = {{"handle", anisotropic ? strip_handle : handle}};
-    Stopwatch clock;
-    BcmEditor editor(target, anisotropic ? strip_support : support, handles, options);
-    const double setup_ms = clock.ms();
-    Eigen::Matrix3Xd pos = target.positions();
-    Pose pose{};
-    const double frame_ms = median_frame_ms(editor, pos, 0.05 * diagonal, frames, pose);
-    const BcmEditor::Stats& stats = editor.stats();
-    rows.push_back({{"case", anisotropic ? "k=3 anisotropic, C^2 boundaries" : "k=3 cotan, C^1 outer / C^2 inner (unsymmetric)"},
-                    {"mesh", anisotropic ? "wavy 4:1 strip (synthetic)" : name},
-                    {"free_vertices", stats.free_vertices},
-                    {"solver", stats.solver},
-                    {"regions_ms", stats.regions_ms},
-                    {"laplacian_ms", stats.laplacian_ms},
-                    {"system_ms", stats.system_ms},
-                    {"factorization_ms", stats.factor_ms},
-                    {"basis_ms", stats.basis_ms},
-                    {"precompute_ms", setup_ms},
-                    {"ms_per_frame", frame_ms}});
-  }
+  const Regions regions = cap_regions(mesh, support_size, handle_size);
+  for (int k = 1; k <= 3; ++k) rows.push_back(cotan_row(mesh, name, regions, k, frames));
+  for (bool anisotropic : {false, true}) rows.push_back(variant_row(ctx, anisotropic, mesh, name, regions, frames));
   ctx.out["bcm"] = rows;
 }
 

@@ -150,13 +150,108 @@ json error_row(const std::string& method, const Mesh& candidate, const Mesh& tru
           {"mean", 0.5 * (mean_a + mean_b)}, {"hausdorff_rel_diag", hausdorff / diag}};
 }
 
+// One mesh under one deformation: what every candidate of quality() is measured with.
+struct QualityCase {
+  const Mesh& input;
+  const Parallelepiped& box;
+  double diag;
+  const Deformation& deformation;
+  const Mesh& truth;
+  const SurfaceDistance& to_truth;
+};
+
+using UniformPoint = std::pair<std::size_t, double>;                  // (faces, Hausdorff)
+using AdaptivePoint = std::tuple<std::string, std::size_t, double>;  // (label, faces, Hausdorff)
+
+// The candidates without adaptive refinement: the warp on the input ("none"), then on each
+// uniform subdivision below the truth's level; the uniform ones' points go to `points`.
+void fixed_rows(const QualityCase& c, const std::vector<Mesh>& uniform, int truth_level, json& methods,
+                std::vector<UniformPoint>& points) {
+  Mesh none = c.input.clone();
+  deform(none, c.box, c.deformation);
+  methods.push_back(error_row("none", none, c.truth, c.to_truth, c.diag));
+  for (int level = 1; level < truth_level; ++level) {
+    Mesh u = uniform[level].clone();
+    deform(u, c.box, c.deformation);
+    methods.push_back(error_row("uniform x" + std::to_string(level), u, c.truth, c.to_truth, c.diag));
+    points.emplace_back(u.num_faces(), methods.back()["hausdorff"].get<double>());
+  }
+}
+
+// The warp and one remesh step with `options` on the input: its error row, with the
+// step's counts, goes to `methods` and its point to `points`.
+void adaptive_row(const QualityCase& c, const RemeshOptions& options, const std::string& label, json& methods,
+                  std::vector<AdaptivePoint>& points) {
+  Mesh a = c.input.clone();
+  auto stack = deform(a, c.box, c.deformation);
+  const RemeshStats stats = adaptive_remesh(a, *stack, options);
+  methods.push_back(error_row(label, a, c.truth, c.to_truth, c.diag));
+  methods.back()["refinements"] = stats.refinements;
+  methods.back()["max_level_hits"] = stats.max_level_hits;
+  points.emplace_back(label, a.num_faces(), methods.back()["hausdorff"].get<double>());
+}
+
+// Both triggers over angle thresholds swept to compare at equal face counts (θmin = 0.75 θmax).
+void angle_sweep(const QualityCase& c, json& methods, std::vector<AdaptivePoint>& points) {
+  const std::vector<double> thetas = {25.7, 15, 10, 6, 4};
+  for (RemeshTrigger trigger : {RemeshTrigger::Normal, RemeshTrigger::Midpoint})
+    for (double theta : thetas) {
+      RemeshOptions options;
+      options.theta_max_deg = theta;
+      options.theta_min_deg = 0.75 * theta;
+      options.trigger = trigger;
+      char label[64];
+      std::snprintf(label, sizeof label, "adaptive %s %.3g deg", trigger == RemeshTrigger::Normal ? "normal" : "midpoint",
+                    theta);
+      adaptive_row(c, options, label, methods, points);
+    }
+}
+
+// The midpoint trigger with absolute distance tolerances (fractions of the diagonal),
+// splitting the triggered edge (the paper) and the longest edge first: the first
+// builds sliver fans under uneven stretch (the extruded bunny) whose levels reach
+// max_level before the tolerance is met; the second's closure splits climb levels
+// faster where a twist refines widely (the elephant).
+void tolerance_sweep(const QualityCase& c, json& methods, std::vector<AdaptivePoint>& points) {
+  for (bool longest : {false, true})
+    for (double fraction : {4e-4, 2e-4, 1e-4, 5e-5, 2.5e-5, 1.25e-5}) {
+      RemeshOptions options;
+      options.trigger = RemeshTrigger::Midpoint;
+      options.tolerance = fraction * c.diag;
+      options.max_level = 16;
+      options.longest_edge_first = longest;
+      char label[64];
+      std::snprintf(label, sizeof label, "adaptive midpoint tol %.3g diag, split %s", fraction,
+                    longest ? "longest" : "edge");
+      adaptive_row(c, options, label, methods, points);
+    }
+}
+
+// At equal face count: for each uniform level, the best adaptive run with no more faces
+// (also printed to stderr, under `name` and `deformation`).
+json at_equal_faces(const std::string& name, const std::string& deformation, const std::vector<UniformPoint>& uniform,
+                    const std::vector<AdaptivePoint>& adaptive) {
+  json equal = json::array();
+  for (const auto& [faces, hausdorff] : uniform) {
+    const AdaptivePoint* best = nullptr;
+    for (const auto& p : adaptive)
+      if (std::get<1>(p) <= faces && (!best || std::get<2>(p) < std::get<2>(*best))) best = &p;
+    if (!best) continue;
+    equal.push_back({{"uniform_faces", faces}, {"adaptive", std::get<0>(*best)},
+                     {"adaptive_faces", std::get<1>(*best)},
+                     {"adaptive_over_uniform_hausdorff", std::get<2>(*best) / hausdorff}});
+    std::fprintf(stderr, "  quality %s %s: %zu uniform faces, %s with %zu faces: Hausdorff ratio %.3f\n",
+                 name.c_str(), deformation.c_str(), faces, std::get<0>(*best).c_str(), std::get<1>(*best),
+                 std::get<2>(*best) / hausdorff);
+  }
+  return equal;
+}
+
 void quality(Context& ctx, json& rows) {
   const std::vector<std::string> names =
       ctx.quick ? std::vector<std::string>{"bunny.obj"}
                 : std::vector<std::string>{"bunny.obj", "armadillo.off", "refined_elephant.off"};
   const std::vector<Deformation> deformations = {{"extrude", extrude}, {"twist", twist}};
-  // Thresholds swept to compare at equal face counts (θmin = 0.75 θmax).
-  const std::vector<double> thetas = {25.7, 15, 10, 6, 4};
   for (const std::string& name : names) {
     const Mesh input = load(ctx, name);
     const Parallelepiped box = fit_aabb(input.positions(), {}, 0.05);
@@ -171,74 +266,16 @@ void quality(Context& ctx, json& rows) {
       Mesh truth = uniform[truth_level].clone();
       deform(truth, box, d);
       const SurfaceDistance to_truth(truth);
+      const QualityCase c{input, box, diag, d, truth, to_truth};
       json methods = json::array();
-      Mesh none = input.clone();
-      deform(none, box, d);
-      methods.push_back(error_row("none", none, truth, to_truth, diag));
-      std::vector<std::pair<std::size_t, double>> uniform_points;
-      for (int level = 1; level < truth_level; ++level) {
-        Mesh u = uniform[level].clone();
-        deform(u, box, d);
-        methods.push_back(error_row("uniform x" + std::to_string(level), u, truth, to_truth, diag));
-        uniform_points.emplace_back(u.num_faces(), methods.back()["hausdorff"].get<double>());
-      }
-      std::vector<std::tuple<std::string, std::size_t, double>> adaptive_points;
-      for (RemeshTrigger trigger : {RemeshTrigger::Normal, RemeshTrigger::Midpoint})
-        for (double theta : thetas) {
-          Mesh a = input.clone();
-          auto stack = deform(a, box, d);
-          RemeshOptions options;
-          options.theta_max_deg = theta;
-          options.theta_min_deg = 0.75 * theta;
-          options.trigger = trigger;
-          const RemeshStats stats = adaptive_remesh(a, *stack, options);
-          char label[64];
-          std::snprintf(label, sizeof label, "adaptive %s %.3g deg", trigger == RemeshTrigger::Normal ? "normal" : "midpoint",
-                        theta);
-          methods.push_back(error_row(label, a, truth, to_truth, diag));
-          methods.back()["refinements"] = stats.refinements;
-          methods.back()["max_level_hits"] = stats.max_level_hits;
-          adaptive_points.emplace_back(label, a.num_faces(), methods.back()["hausdorff"].get<double>());
-        }
-      // The midpoint trigger with absolute distance tolerances (fractions of the diagonal),
-      // splitting the triggered edge (the paper) and the longest edge first: the first
-      // builds sliver fans under uneven stretch (the extruded bunny) whose levels reach
-      // max_level before the tolerance is met; the second's closure splits climb levels
-      // faster where a twist refines widely (the elephant).
-      for (bool longest : {false, true})
-      for (double fraction : {4e-4, 2e-4, 1e-4, 5e-5, 2.5e-5, 1.25e-5}) {
-        Mesh a = input.clone();
-        auto stack = deform(a, box, d);
-        RemeshOptions options;
-        options.trigger = RemeshTrigger::Midpoint;
-        options.tolerance = fraction * diag;
-        options.max_level = 16;
-        options.longest_edge_first = longest;
-        const RemeshStats stats = adaptive_remesh(a, *stack, options);
-        char label[64];
-        std::snprintf(label, sizeof label, "adaptive midpoint tol %.3g diag, split %s", fraction,
-                      longest ? "longest" : "edge");
-        methods.push_back(error_row(label, a, truth, to_truth, diag));
-        methods.back()["refinements"] = stats.refinements;
-        methods.back()["max_level_hits"] = stats.max_level_hits;
-        adaptive_points.emplace_back(label, a.num_faces(), methods.back()["hausdorff"].get<double>());
-      }
-      // At equal face count: for each uniform level, the best adaptive run with no more faces.
-      json equal = json::array();
-      for (const auto& [faces, hausdorff] : uniform_points) {
-        const std::tuple<std::string, std::size_t, double>* best = nullptr;
-        for (const auto& p : adaptive_points)
-          if (std::get<1>(p) <= faces && (!best || std::get<2>(p) < std::get<2>(*best))) best = &p;
-        if (!best) continue;
-        equal.push_back({{"uniform_faces", faces}, {"adaptive", std::get<0>(*best)},
-                         {"adaptive_faces", std::get<1>(*best)},
-                         {"adaptive_over_uniform_hausdorff", std::get<2>(*best) / hausdorff}});
-        std::fprintf(stderr, "  quality %s %s: %zu uniform faces, %s with %zu faces: Hausdorff ratio %.3f\n",
-                     name.c_str(), d.name.c_str(), faces, std::get<0>(*best).c_str(), std::get<1>(*best),
-                     std::get<2>(*best) / hausdorff);
-      }
+      std::vector<UniformPoint> uniform_points;
+      fixed_rows(c, uniform, truth_level, methods, uniform_points);
+      std::vector<AdaptivePoint> adaptive_points;
+      angle_sweep(c, methods, adaptive_points);
+      tolerance_sweep(c, methods, adaptive_points);
       rows.push_back({{"mesh", name}, {"deformation", d.name}, {"input_faces", input.num_faces()},
-                      {"truth_faces", truth.num_faces()}, {"methods", methods}, {"at_equal_faces", equal}});
+                      {"truth_faces", truth.num_faces()}, {"methods", methods},
+                      {"at_equal_faces", at_equal_faces(name, d.name, uniform_points, adaptive_points)}});
     }
   }
 }

@@ -62,11 +62,35 @@ int command_compare(const std::string& a_path, const std::string& b_path, double
   return within ? 0 : 1;
 }
 
+// `info --json`: the mesh's facts as JSON (keys sorted, as nlohmann::json keeps them).
+nlohmann::json mesh_info_json(const ffd::MeshInfo& info) {
+  nlohmann::json by_degree = nlohmann::json::object();
+  for (const auto& [degree, count] : info.faces_by_degree) by_degree[std::to_string(degree)] = count;
+  return {{"vertices", info.vertices},
+          {"faces", info.faces},
+          {"edges", info.edges},
+          {"faces_by_degree", by_degree},
+          {"boundary_edges", info.boundary_edges},
+          {"boundary_loops", info.boundary_loops},
+          {"components", info.components},
+          {"isolated_vertices", info.isolated_vertices},
+          {"degenerate_faces", info.degenerate_faces},
+          {"euler_characteristic", info.euler},
+          {"closed", info.boundary_edges == 0 && info.faces > 0},
+          {"bbox_min", {info.min[0], info.min[1], info.min[2]}},
+          {"bbox_max", {info.max[0], info.max[1], info.max[2]}},
+          {"bbox_diagonal", info.diagonal},
+          {"edge_length", {{"min", info.min_edge}, {"mean", info.mean_edge}, {"max", info.max_edge}}},
+          {"uvs", info.has_uvs},
+          {"normals", info.has_normals},
+          {"colors", info.has_colors}};
+}
+
 int command_info(const std::string& path, bool as_json) {
   const ffd::Mesh mesh = ffd::read_mesh(path);
   const ffd::MeshInfo info = ffd::mesh_info(mesh);
   if (as_json) {
-    nlohmann::json j = ffd::to_json(info);
+    nlohmann::json j = mesh_info_json(info);
     j["path"] = path;
     std::cout << j.dump(2) << "\n";
     return 0;

@@ -49,6 +49,17 @@ void MeshStorage::enable_colors() {
 
 namespace {
 
+// The Surface_mesh property name behind Mesh::vec3_attribute(name).
+std::string attribute_name(const std::string& name) { return "v:attr:" + name; }
+
+}  // namespace
+
+Vec3Property MeshStorage::vec3_attribute(const std::string& name) {
+  return sm.add_property_map<VertexIndex, Eigen::Vector3d>(attribute_name(name), Eigen::Vector3d::Zero()).first;
+}
+
+namespace {
+
 Vec3Array vec3_map(SurfaceMesh::Property_map<VertexIndex, Eigen::Vector3d>& map, std::size_t n) {
   return {const_cast<double*>(reinterpret_cast<const double*>(map.data())), 3,
           static_cast<Eigen::Index>(n)};
@@ -58,8 +69,6 @@ ConstVec3Array const_vec3_map(const SurfaceMesh::Property_map<VertexIndex, Eigen
                               std::size_t n) {
   return {reinterpret_cast<const double*>(map.data()), 3, static_cast<Eigen::Index>(n)};
 }
-
-std::string attribute_name(const std::string& name) { return vec3_attribute_property(name); }
 
 }  // namespace
 
@@ -100,10 +109,7 @@ Vec3Array Mesh::normals() { return vec3_map(storage_->normal, num_vertices()); }
 ConstVec3Array Mesh::normals() const { return const_vec3_map(storage_->normal, num_vertices()); }
 
 Vec3Array Mesh::vec3_attribute(const std::string& name) {
-  auto map = storage_->sm
-                 .add_property_map<VertexIndex, Eigen::Vector3d>(attribute_name(name),
-                                                                 Eigen::Vector3d::Zero())
-                 .first;
+  Vec3Property map = storage_->vec3_attribute(name);
   return vec3_map(map, num_vertices());
 }
 

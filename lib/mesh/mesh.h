@@ -7,7 +7,10 @@
 // - file attributes survive every step: per-corner UVs and normals (OBJ), vertex colours,
 //   OBJ groups and material statements;
 // - the mesh is an oriented 2-manifold polygon mesh, boundaries allowed, isolated vertices
-//   allowed (a point cloud deforms too).
+//   allowed (a point cloud deforms too);
+// - besides these, the mesh carries only the declared attributes below (refinement
+//   levels, face starts, named vec3 attributes); an op's scratch data is removed before
+//   the op returns.
 // Storage is a CGAL::Surface_mesh behind MeshStorage (mesh_storage.h); this header keeps
 // CGAL out of code that only needs positions.
 #pragma once
@@ -22,6 +25,33 @@ namespace ffd {
 
 struct MeshStorage;
 struct PolygonSoup;
+
+/// Declared attributes: what steps other than the file's own data leave on a mesh, by
+/// name. Each persists through every later step (copies and connectivity changes too),
+/// because a later step reads it back:
+/// - refinement levels, per vertex and per edge: a remesh step writes them and the next
+///   remesh step's decimation reads them, since it may only remove what refinement made
+///   and unwinds it level by level (Gain & Dodgson section 4); save's "level" colours
+///   read them too (vertex_levels()). Absent means every level is 0;
+/// - a face's start vertex: the vertex its corner cycle starts at as read (or as the
+///   split that made it set it), so a face that decimation restores in a later remesh
+///   step is written starting where it was;
+/// - vec3 attributes (Mesh::vec3_attribute), e.g. each warp's input positions and normals
+///   while the warp is on the stack (WarpStack::input_attribute()).
+/// Stored as CGAL Surface_mesh properties under these names (mesh_storage.h).
+namespace mesh_attribute {
+/// Per vertex, RefinementLevel: 0 for input vertices, max(level of a, b, c, d) + 1 for
+/// the midpoint of a split edge bc (faces abc, bcd).
+inline constexpr char kVertexLevel[] = "v:level";
+/// Per edge, RefinementLevel: 0 for input edges; a split's new edges am, dm take the
+/// midpoint's level and its halves keep bc's.
+inline constexpr char kEdgeLevel[] = "e:level";
+/// Per face, std::uint32_t: the index of the vertex the face's corners start at.
+inline constexpr char kFaceStart[] = "f:start";
+}  // namespace mesh_attribute
+
+/// A vertex's or an edge's refinement level (mesh_attribute::kVertexLevel, kEdgeLevel).
+using RefinementLevel = std::uint8_t;
 
 /// 3 × n view of a per-vertex array; valid until the mesh's connectivity changes.
 using Vec3Array = Eigen::Map<Eigen::Matrix3Xd>;

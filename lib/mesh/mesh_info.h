@@ -3,8 +3,6 @@
 
 #include <map>
 
-#include <nlohmann/json.hpp>
-
 #include "mesh/mesh.h"
 
 namespace ffd {
@@ -25,8 +23,5 @@ struct MeshInfo {
 
 /// Counts and measures `mesh` at its current positions.
 MeshInfo mesh_info(const Mesh& mesh);
-
-/// The same as JSON.
-nlohmann::json to_json(const MeshInfo& info);
 
 }  // namespace ffd

@@ -5,7 +5,8 @@
 // - sm.points() holds the current (deformed) positions;
 // - a corner of a face is the halfedge h with face(h) == f, at vertex target(h);
 // - "h:uv" / "h:vn" hold per-corner indices into `uvs` / `file_normals`, -1 for none;
-// - "f:group" indexes `groups` (OBJ statements in force for the face), -1 for none.
+// - "f:group" indexes `groups` (OBJ statements in force for the face), -1 for none;
+// - the declared attributes of mesh.h (mesh_attribute::*) are properties of those names.
 // The mesh never keeps garbage between steps: an op that removes elements calls
 // sm.collect_garbage() before it returns, so indices are dense 0..n-1.
 #pragma once
@@ -28,6 +29,10 @@ using VertexIndex = SurfaceMesh::Vertex_index;
 using HalfedgeIndex = SurfaceMesh::Halfedge_index;
 using EdgeIndex = SurfaceMesh::Edge_index;
 using FaceIndex = SurfaceMesh::Face_index;
+
+/// A per-vertex 3-vector property; unlike Mesh's 3 × n views it stays valid through
+/// connectivity changes (Euler operations), so code that adds vertices holds these.
+using Vec3Property = SurfaceMesh::Property_map<VertexIndex, Eigen::Vector3d>;
 
 static_assert(sizeof(Point3) == 3 * sizeof(double), "Point_3 must be three packed doubles");
 static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double), "Vector3d must be packed");
@@ -64,6 +69,8 @@ struct MeshStorage {
   void bind();
   /// Adds the colour map if missing and sets has_colors.
   void enable_colors();
+  /// The property behind Mesh::vec3_attribute(name), created (zero) if missing.
+  Vec3Property vec3_attribute(const std::string& name);
 };
 
 /// The current positions as a 3 × n array over sm.points().
@@ -71,9 +78,6 @@ inline Eigen::Map<Eigen::Matrix3Xd> point_array(SurfaceMesh& sm) {
   return {const_cast<double*>(reinterpret_cast<const double*>(sm.points().data())), 3,
           static_cast<Eigen::Index>(sm.number_of_vertices())};
 }
-
-/// The Surface_mesh property behind Mesh::vec3_attribute(name).
-inline std::string vec3_attribute_property(const std::string& name) { return "v:attr:" + name; }
 
 inline Eigen::Vector3d to_eigen(const Point3& p) { return {p.x(), p.y(), p.z()}; }
 inline Point3 to_point(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }

@@ -34,6 +34,108 @@ std::string rest_of_line(std::string_view line, std::string_view keyword) {
   return std::string(line.substr(start, end - start));
 }
 
+// Appends `v x y z`, `v x y z w` (w = 1 only) or `v x y z r g b` on line n to `soup`.
+// Colours start with the first coloured vertex; earlier vertices get the default grey.
+void read_vertex(const std::vector<std::string_view>& tokens, const std::string& file, std::size_t n,
+                 PolygonSoup& soup, bool& any_color) {
+  if (tokens.size() != 4 && tokens.size() != 5 && tokens.size() != 7)
+    throw InputError(place(file, n) + ": expected 'v x y z' (or with w, or with r g b), found " +
+                     std::to_string(tokens.size() - 1) + " values");
+  Eigen::Vector3d p;
+  for (int i = 0; i < 3; ++i) p[i] = number_or_throw(tokens[1 + i], file, n, "coordinate");
+  if (tokens.size() == 5 && number_or_throw(tokens[4], file, n, "weight") != 1.0)
+    throw InputError(place(file, n) + ": rational vertices (w != 1) are not supported");
+  Eigen::Vector3f c(0.8f, 0.8f, 0.8f);
+  if (tokens.size() == 7) {
+    for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(number_or_throw(tokens[4 + i], file, n, "colour"));
+    if (!any_color) {
+      soup.colors.assign(soup.positions.size(), Eigen::Vector3f(0.8f, 0.8f, 0.8f));
+      any_color = true;
+    }
+  }
+  soup.positions.push_back(p);
+  soup.vertex_lines.push_back(n);
+  if (any_color) soup.colors.push_back(c);
+}
+
+// Appends `vt u [v [w]]` on line n to `soup` (w is checked, then dropped).
+void read_texture_coordinate(const std::vector<std::string_view>& tokens, const std::string& file, std::size_t n,
+                             PolygonSoup& soup) {
+  if (tokens.size() < 2 || tokens.size() > 4)
+    throw InputError(place(file, n) + ": expected 'vt u [v [w]]'");
+  Eigen::Vector2d t(number_or_throw(tokens[1], file, n, "texture coordinate"), 0.0);
+  if (tokens.size() >= 3) t[1] = number_or_throw(tokens[2], file, n, "texture coordinate");
+  if (tokens.size() == 4) number_or_throw(tokens[3], file, n, "texture coordinate");
+  soup.uvs.push_back(t);
+}
+
+// Appends `vn x y z` on line n to `soup`.
+void read_normal(const std::vector<std::string_view>& tokens, const std::string& file, std::size_t n,
+                 PolygonSoup& soup) {
+  if (tokens.size() != 4) throw InputError(place(file, n) + ": expected 'vn x y z'");
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i) v[i] = number_or_throw(tokens[1 + i], file, n, "normal component");
+  soup.normals.push_back(v);
+}
+
+// Splits a face corner `v`, `v/t`, `v//n` or `v/t/n` into its index tokens (empty if absent).
+void split_corner(std::string_view corner, std::string_view& vtok, std::string_view& ttok, std::string_view& ntok) {
+  std::size_t s1 = corner.find('/');
+  vtok = corner.substr(0, s1);
+  if (s1 != std::string_view::npos) {
+    std::size_t s2 = corner.find('/', s1 + 1);
+    ttok = corner.substr(s1 + 1, s2 == std::string_view::npos ? std::string_view::npos : s2 - s1 - 1);
+    if (s2 != std::string_view::npos) ntok = corner.substr(s2 + 1);
+  }
+}
+
+// The face `f c1 c2 c3 ...` on line n, its corners resolved against what `soup` holds so
+// far; corner UVs and normals are kept when any corner has one (-1 for the others).
+SoupFace read_face(const std::vector<std::string_view>& tokens, const std::string& file, std::size_t n,
+                   const PolygonSoup& soup) {
+  if (tokens.size() < 4)
+    throw InputError(place(file, n) + ": a face needs at least 3 vertices, found " +
+                     std::to_string(tokens.size() - 1));
+  SoupFace face;
+  face.line = n;
+  bool any_uv = false, any_vn = false;
+  std::vector<std::int32_t> uvs, vns;
+  for (std::size_t i = 1; i < tokens.size(); ++i) {
+    std::string_view vtok, ttok, ntok;
+    split_corner(tokens[i], vtok, ttok, ntok);
+    face.vertices.push_back(static_cast<std::uint32_t>(
+        resolve_index(vtok, soup.positions.size(), file, n, "vertex")));
+    std::int32_t t = -1, nn = -1;
+    if (!ttok.empty()) {
+      t = static_cast<std::int32_t>(resolve_index(ttok, soup.uvs.size(), file, n, "texture"));
+      any_uv = true;
+    }
+    if (!ntok.empty()) {
+      nn = static_cast<std::int32_t>(resolve_index(ntok, soup.normals.size(), file, n, "normal"));
+      any_vn = true;
+    }
+    uvs.push_back(t);
+    vns.push_back(nn);
+  }
+  if (any_uv) face.uvs = std::move(uvs);
+  if (any_vn) face.normals = std::move(vns);
+  return face;
+}
+
+// Applies an `o`, `g`, `usemtl` or `s` statement to `state`; sets `changed` when it
+// differs from what was in force.
+void set_state(std::string_view line, std::string_view key, ObjState& state, bool& changed) {
+  std::string value = rest_of_line(line, key);
+  std::string* slot = key == "o" ? &state.object
+                      : key == "g" ? &state.group
+                      : key == "usemtl" ? &state.material
+                                        : &state.smoothing;
+  if (*slot != value) {
+    *slot = value;
+    changed = true;
+  }
+}
+
 }  // namespace
 
 PolygonSoup read_obj(std::string_view text, const std::string& file) {
@@ -51,70 +153,13 @@ PolygonSoup read_obj(std::string_view text, const std::string& file) {
     if (tokens.empty()) continue;
     const std::string_view key = tokens[0];
     if (key == "v") {
-      // v x y z | v x y z w | v x y z r g b
-      if (tokens.size() != 4 && tokens.size() != 5 && tokens.size() != 7)
-        throw InputError(place(file, n) + ": expected 'v x y z' (or with w, or with r g b), found " +
-                         std::to_string(tokens.size() - 1) + " values");
-      Eigen::Vector3d p;
-      for (int i = 0; i < 3; ++i) p[i] = number_or_throw(tokens[1 + i], file, n, "coordinate");
-      if (tokens.size() == 5 && number_or_throw(tokens[4], file, n, "weight") != 1.0)
-        throw InputError(place(file, n) + ": rational vertices (w != 1) are not supported");
-      Eigen::Vector3f c(0.8f, 0.8f, 0.8f);
-      if (tokens.size() == 7) {
-        for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(number_or_throw(tokens[4 + i], file, n, "colour"));
-        if (!any_color) {
-          soup.colors.assign(soup.positions.size(), Eigen::Vector3f(0.8f, 0.8f, 0.8f));
-          any_color = true;
-        }
-      }
-      soup.positions.push_back(p);
-      soup.vertex_lines.push_back(n);
-      if (any_color) soup.colors.push_back(c);
+      read_vertex(tokens, file, n, soup, any_color);
     } else if (key == "vt") {
-      if (tokens.size() < 2 || tokens.size() > 4)
-        throw InputError(place(file, n) + ": expected 'vt u [v [w]]'");
-      Eigen::Vector2d t(number_or_throw(tokens[1], file, n, "texture coordinate"), 0.0);
-      if (tokens.size() >= 3) t[1] = number_or_throw(tokens[2], file, n, "texture coordinate");
-      if (tokens.size() == 4) number_or_throw(tokens[3], file, n, "texture coordinate");
-      soup.uvs.push_back(t);
+      read_texture_coordinate(tokens, file, n, soup);
     } else if (key == "vn") {
-      if (tokens.size() != 4) throw InputError(place(file, n) + ": expected 'vn x y z'");
-      Eigen::Vector3d v;
-      for (int i = 0; i < 3; ++i) v[i] = number_or_throw(tokens[1 + i], file, n, "normal component");
-      soup.normals.push_back(v);
+      read_normal(tokens, file, n, soup);
     } else if (key == "f") {
-      if (tokens.size() < 4)
-        throw InputError(place(file, n) + ": a face needs at least 3 vertices, found " +
-                         std::to_string(tokens.size() - 1));
-      SoupFace face;
-      face.line = n;
-      bool any_uv = false, any_vn = false;
-      std::vector<std::int32_t> uvs, vns;
-      for (std::size_t i = 1; i < tokens.size(); ++i) {
-        std::string_view corner = tokens[i];
-        std::size_t s1 = corner.find('/');
-        std::string_view vtok = corner.substr(0, s1), ttok, ntok;
-        if (s1 != std::string_view::npos) {
-          std::size_t s2 = corner.find('/', s1 + 1);
-          ttok = corner.substr(s1 + 1, s2 == std::string_view::npos ? std::string_view::npos : s2 - s1 - 1);
-          if (s2 != std::string_view::npos) ntok = corner.substr(s2 + 1);
-        }
-        face.vertices.push_back(static_cast<std::uint32_t>(
-            resolve_index(vtok, soup.positions.size(), file, n, "vertex")));
-        std::int32_t t = -1, nn = -1;
-        if (!ttok.empty()) {
-          t = static_cast<std::int32_t>(resolve_index(ttok, soup.uvs.size(), file, n, "texture"));
-          any_uv = true;
-        }
-        if (!ntok.empty()) {
-          nn = static_cast<std::int32_t>(resolve_index(ntok, soup.normals.size(), file, n, "normal"));
-          any_vn = true;
-        }
-        uvs.push_back(t);
-        vns.push_back(nn);
-      }
-      if (any_uv) face.uvs = std::move(uvs);
-      if (any_vn) face.normals = std::move(vns);
+      SoupFace face = read_face(tokens, file, n, soup);
       if (state_changed) {
         soup.groups.push_back(state);
         state_changed = false;
@@ -122,15 +167,7 @@ PolygonSoup read_obj(std::string_view text, const std::string& file) {
       face.group = soup.groups.empty() ? -1 : static_cast<std::int32_t>(soup.groups.size() - 1);
       soup.faces.push_back(std::move(face));
     } else if (key == "o" || key == "g" || key == "usemtl" || key == "s") {
-      std::string value = rest_of_line(line, key);
-      std::string* slot = key == "o" ? &state.object
-                          : key == "g" ? &state.group
-                          : key == "usemtl" ? &state.material
-                                            : &state.smoothing;
-      if (*slot != value) {
-        *slot = value;
-        state_changed = true;
-      }
+      set_state(line, key, state, state_changed);
     } else if (key == "mtllib") {
       soup.header.push_back("mtllib " + rest_of_line(line, key));
     } else if (key == "l" || key == "p") {

@@ -47,17 +47,11 @@ Eigen::Vector3f parse_color(const std::vector<std::string_view>& t, std::size_t 
   return c;
 }
 
-}  // namespace
-
-PolygonSoup read_off(std::string_view text, const std::string& file) {
-  PolygonSoup soup;
-  LineScanner lines(text);
+// Reads the header keyword (a file may omit it) up to the counts, on its line or the
+// next; returns the count tokens (views into the text), empty when the file ends first.
+std::vector<std::string_view> read_header(LineScanner& lines, const std::string& file, OffHeader& header) {
   std::string_view line;
-  std::vector<std::string_view> t;
-
-  // Header keyword, possibly followed by the counts on the same line.
-  OffHeader header;
-  std::vector<std::string_view> counts;
+  std::vector<std::string_view> t, counts;
   bool have_keyword = false;
   while (counts.empty() && lines.next(line)) {
     split_tokens(line, t);
@@ -77,85 +71,118 @@ PolygonSoup read_off(std::string_view text, const std::string& file) {
       throw InputError(place(file, lines.number()) + ": binary OFF is not supported");
     counts.assign(t.begin() + first, t.end());
   }
-  const std::size_t counts_line = lines.number();  // named when the file ends early
-  if (counts.size() != 3 && counts.size() != 2)
-    throw InputError(file + ":" + std::to_string(lines.number()) +
-                     ": expected the counts 'vertices faces edges'");
-  long long nv, nf;
-  if (!parse_integer(counts[0], nv) || !parse_integer(counts[1], nf) || nv < 0 || nf < 0)
-    throw InputError(place(file, lines.number()) + ": the vertex and face counts must be non-negative integers");
+  return counts;
+}
 
+// The vertex and face counts of the header, given on line `line`.
+void parse_counts(const std::vector<std::string_view>& counts, const std::string& file, std::size_t line,
+                  long long& nv, long long& nf) {
+  if (counts.size() != 3 && counts.size() != 2)
+    throw InputError(file + ":" + std::to_string(line) + ": expected the counts 'vertices faces edges'");
+  if (!parse_integer(counts[0], nv) || !parse_integer(counts[1], nf) || nv < 0 || nf < 0)
+    throw InputError(place(file, line) + ": the vertex and face counts must be non-negative integers");
+}
+
+// Appends the vertex on line n (tokens t) to `soup`: a position, then as the header says
+// a normal, a colour (3 or 4 components) and a texture coordinate.
+void read_vertex(const std::vector<std::string_view>& t, const OffHeader& header, const std::string& file,
+                 std::size_t n, PolygonSoup& soup) {
   const std::size_t want = 3 + (header.normal ? 3 : 0);
+  std::size_t extra = t.size() - std::min(t.size(), want);
+  const std::size_t st = header.st ? 2 : 0;
+  const bool has_color = header.color && extra >= 3 + st;
+  if (t.size() < want + st || (header.color && !has_color) ||
+      (!header.color && extra != st) || (header.color && extra - st > 4))
+    throw InputError(place(file, n) + ": expected " + std::to_string(want + st) +
+                     (header.color ? " values and a colour" : " values") + " for vertex " +
+                     std::to_string(soup.positions.size()) + ", found " + std::to_string(t.size()));
+  Eigen::Vector3d p;
+  for (int i = 0; i < 3; ++i) p[i] = number_or_throw(t[i], file, n, "coordinate");
+  soup.positions.push_back(p);
+  soup.vertex_lines.push_back(n);
+  if (header.normal) {
+    Eigen::Vector3d v;
+    for (int i = 0; i < 3; ++i) v[i] = number_or_throw(t[3 + i], file, n, "normal component");
+    soup.normals.push_back(v);
+  }
+  if (has_color) soup.colors.push_back(parse_color(t, want, extra - st, file, n));
+  if (header.st) {
+    Eigen::Vector2d uv(number_or_throw(t[t.size() - 2], file, n, "texture coordinate"),
+                       number_or_throw(t[t.size() - 1], file, n, "texture coordinate"));
+    soup.uvs.push_back(uv);
+  }
+}
+
+// The face on line n (tokens t): its vertex count, that many indices below nv, and an
+// optional colour (ignored). Per-vertex normals and texture coordinates become the
+// face's corners'.
+SoupFace read_face(const std::vector<std::string_view>& t, const OffHeader& header, long long nv,
+                   const std::string& file, std::size_t n) {
+  long long k;
+  if (!parse_integer(t[0], k) || k < 3)
+    throw InputError(place(file, n) + ": a face starts with its vertex count (3 or more), found '" +
+                     std::string(t[0]) + "'");
+  if (static_cast<long long>(t.size()) < k + 1)
+    throw InputError(place(file, n) + ": the face lists " + std::to_string(t.size() - 1) + " of its " +
+                     std::to_string(k) + " vertices");
+  const std::size_t trailing = t.size() - 1 - k;  // optional face colour
+  if (trailing != 0 && trailing != 1 && trailing != 3 && trailing != 4)
+    throw InputError(place(file, n) + ": unexpected values after the face's vertex indices");
+  SoupFace face;
+  face.line = n;
+  for (long long i = 0; i < k; ++i) {
+    long long idx;
+    if (!parse_integer(t[1 + i], idx) || idx < 0 || idx >= nv)
+      throw InputError(place(file, n) + ": vertex index '" + std::string(t[1 + i]) +
+                       "' is out of range (0.." + std::to_string(nv - 1) + ")");
+    face.vertices.push_back(static_cast<std::uint32_t>(idx));
+  }
+  if (header.normal) face.normals.assign(face.vertices.begin(), face.vertices.end());
+  if (header.st) face.uvs.assign(face.vertices.begin(), face.vertices.end());
+  return face;
+}
+
+// The next non-blank line's tokens into t; false at the end of the text.
+bool next_tokens(LineScanner& lines, std::vector<std::string_view>& t) {
+  std::string_view line;
+  while (lines.next(line)) {
+    split_tokens(line, t);
+    if (!t.empty()) return true;
+  }
+  return false;
+}
+
+// The error for a file that ends after `read` of the `promised` vertices or faces.
+InputError ends_early(const std::string& file, std::size_t counts_line, std::size_t read, long long promised,
+                      const char* what) {
+  return InputError(place(file, counts_line) + ": the file ends after " + std::to_string(read) + " of the " +
+                    std::to_string(promised) + " " + what + " this line promises");
+}
+
+}  // namespace
+
+PolygonSoup read_off(std::string_view text, const std::string& file) {
+  PolygonSoup soup;
+  LineScanner lines(text);
+  std::vector<std::string_view> t;
+  OffHeader header;
+  const std::vector<std::string_view> counts = read_header(lines, file, header);
+  const std::size_t counts_line = lines.number();  // named when the file ends early
+  long long nv, nf;
+  parse_counts(counts, file, counts_line, nv, nf);
+
   soup.positions.reserve(nv);
   if (header.normal) soup.normals.reserve(nv);
   while (static_cast<long long>(soup.positions.size()) < nv) {
-    if (!lines.next(line))
-      throw InputError(place(file, counts_line) + ": the file ends after " + std::to_string(soup.positions.size()) +
-                       " of the " + std::to_string(nv) + " vertices this line promises");
-    split_tokens(line, t);
-    if (t.empty()) continue;
-    const std::size_t n = lines.number();
-    std::size_t extra = t.size() - std::min(t.size(), want);
-    const std::size_t st = header.st ? 2 : 0;
-    const bool has_color = header.color && extra >= 3 + st;
-    if (t.size() < want + st || (header.color && !has_color) ||
-        (!header.color && extra != st) || (header.color && extra - st > 4))
-      throw InputError(place(file, n) + ": expected " + std::to_string(want + st) +
-                       (header.color ? " values and a colour" : " values") + " for vertex " +
-                       std::to_string(soup.positions.size()) + ", found " + std::to_string(t.size()));
-    Eigen::Vector3d p;
-    for (int i = 0; i < 3; ++i) p[i] = number_or_throw(t[i], file, n, "coordinate");
-    soup.positions.push_back(p);
-    soup.vertex_lines.push_back(n);
-    if (header.normal) {
-      Eigen::Vector3d v;
-      for (int i = 0; i < 3; ++i) v[i] = number_or_throw(t[3 + i], file, n, "normal component");
-      soup.normals.push_back(v);
-    }
-    if (has_color) soup.colors.push_back(parse_color(t, want, extra - st, file, n));
-    if (header.st) {
-      Eigen::Vector2d uv(number_or_throw(t[t.size() - 2], file, n, "texture coordinate"),
-                         number_or_throw(t[t.size() - 1], file, n, "texture coordinate"));
-      soup.uvs.push_back(uv);
-    }
+    if (!next_tokens(lines, t)) throw ends_early(file, counts_line, soup.positions.size(), nv, "vertices");
+    read_vertex(t, header, file, lines.number(), soup);
   }
-
   soup.faces.reserve(nf);
   while (static_cast<long long>(soup.faces.size()) < nf) {
-    if (!lines.next(line))
-      throw InputError(place(file, counts_line) + ": the file ends after " + std::to_string(soup.faces.size()) +
-                       " of the " + std::to_string(nf) + " faces this line promises");
-    split_tokens(line, t);
-    if (t.empty()) continue;
-    const std::size_t n = lines.number();
-    long long k;
-    if (!parse_integer(t[0], k) || k < 3)
-      throw InputError(place(file, n) + ": a face starts with its vertex count (3 or more), found '" +
-                       std::string(t[0]) + "'");
-    if (static_cast<long long>(t.size()) < k + 1)
-      throw InputError(place(file, n) + ": the face lists " + std::to_string(t.size() - 1) + " of its " +
-                       std::to_string(k) + " vertices");
-    const std::size_t trailing = t.size() - 1 - k;  // optional face colour
-    if (trailing != 0 && trailing != 1 && trailing != 3 && trailing != 4)
-      throw InputError(place(file, n) + ": unexpected values after the face's vertex indices");
-    SoupFace face;
-    face.line = n;
-    for (long long i = 0; i < k; ++i) {
-      long long idx;
-      if (!parse_integer(t[1 + i], idx) || idx < 0 || idx >= nv)
-        throw InputError(place(file, n) + ": vertex index '" + std::string(t[1 + i]) +
-                         "' is out of range (0.." + std::to_string(nv - 1) + ")");
-      face.vertices.push_back(static_cast<std::uint32_t>(idx));
-    }
-    if (header.normal) face.normals.assign(face.vertices.begin(), face.vertices.end());
-    if (header.st) face.uvs.assign(face.vertices.begin(), face.vertices.end());
-    soup.faces.push_back(std::move(face));
+    if (!next_tokens(lines, t)) throw ends_early(file, counts_line, soup.faces.size(), nf, "faces");
+    soup.faces.push_back(read_face(t, header, nv, file, lines.number()));
   }
-  while (lines.next(line)) {
-    split_tokens(line, t);
-    if (!t.empty())
-      throw InputError(place(file, lines.number()) + ": unexpected data after the last face");
-  }
+  if (next_tokens(lines, t)) throw InputError(place(file, lines.number()) + ": unexpected data after the last face");
   return soup;
 }
 

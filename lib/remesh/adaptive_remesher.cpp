@@ -11,12 +11,12 @@
 #include "common/errors.h"
 #include "common/timer.h"
 #include "mesh/mesh_storage.h"
-#include "warp/lattice.h"
+#include "warp/warp_stack_storage.h"
 
 namespace ffd {
 namespace {
 
-using Level = std::uint8_t;
+using Level = RefinementLevel;
 
 // A face corner's attributes: indices into the UV and file-normal tables.
 struct Corner {
@@ -32,20 +32,38 @@ struct FaceRecord {
   std::uint32_t start = 0;
 };
 
-// Levels and flags live in the mesh as properties, so they follow every change.
+// The mesh's declared refinement attributes (mesh.h): they live in the mesh as
+// properties, so they follow every change, and persist for the next remesh step.
 struct Properties {
   SurfaceMesh::Property_map<VertexIndex, Level> vertex_level;
   SurfaceMesh::Property_map<EdgeIndex, Level> edge_level;
   SurfaceMesh::Property_map<FaceIndex, std::uint32_t> start;  // a face's first vertex, kept through splits
 
   explicit Properties(SurfaceMesh& sm) {
-    vertex_level = sm.add_property_map<VertexIndex, Level>("v:level", 0).first;
-    edge_level = sm.add_property_map<EdgeIndex, Level>("e:level", 0).first;
+    vertex_level = sm.add_property_map<VertexIndex, Level>(mesh_attribute::kVertexLevel, 0).first;
+    edge_level = sm.add_property_map<EdgeIndex, Level>(mesh_attribute::kEdgeLevel, 0).first;
     bool created;
-    std::tie(start, created) = sm.add_property_map<FaceIndex, std::uint32_t>("f:start", 0);
+    std::tie(start, created) = sm.add_property_map<FaceIndex, std::uint32_t>(mesh_attribute::kFaceStart, 0);
     if (created)
       for (FaceIndex f : sm.faces()) start[f] = sm.target(sm.halfedge(f)).idx();
   }
+};
+
+// A scratch property, removed when it goes out of scope (on an exception too), so no
+// scratch data outlives the op (mesh.h).
+template <class Key, class Value>
+class ScratchProperty {
+public:
+  ScratchProperty(SurfaceMesh& sm, const std::string& name)
+      : sm_(sm), map_(sm.add_property_map<Key, Value>(name).first) {}
+  ~ScratchProperty() { sm_.remove_property_map(map_); }
+  ScratchProperty(const ScratchProperty&) = delete;
+  ScratchProperty& operator=(const ScratchProperty&) = delete;
+  SurfaceMesh::Property_map<Key, Value>& map() { return map_; }
+
+private:
+  SurfaceMesh& sm_;
+  SurfaceMesh::Property_map<Key, Value> map_;
 };
 
 class Remesher {
@@ -59,16 +77,7 @@ public:
     // chord L and sagitta (L/2)·tan(θ/4); the two faces' distances add to L·tan(θ/4).
     tan_max_ = std::tan(options.theta_max_deg * deg / 4);
     tan_min_ = std::tan(options.theta_min_deg * deg / 4);
-    for (std::size_t k = 0; k < stack.size(); ++k)
-      if (const auto* lattice = dynamic_cast<const Lattice*>(&stack.warp(k))) {
-        Domain d;
-        d.lattice = lattice;
-        d.input = k == 0 ? s_.rest
-                         : sm_.property_map<VertexIndex, Eigen::Vector3d>(
-                                   vec3_attribute_property(stack.input_attribute(k)))
-                               .first;
-        domains_.push_back(d);
-      }
+    for (std::size_t k = 0; k < stack.size(); ++k) domains_.push_back({&stack.warp(k), warp_input_positions(s_, k)});
     l_max_ = options.l_max ? *options.l_max : smallest_cell_extent(stack);
     stats_.l_max = l_max_;
   }
@@ -76,9 +85,10 @@ public:
   void run();
 
 private:
+  // A warp and where the mesh's vertices are in its input space.
   struct Domain {
-    const Lattice* lattice;
-    SurfaceMesh::Property_map<VertexIndex, Eigen::Vector3d> input;
+    const Warp* warp;
+    Vec3Property input;
   };
 
   Eigen::Vector3d pos(VertexIndex v) const { return to_eigen(sm_.point(v)); }
@@ -130,28 +140,10 @@ private:
   std::priority_queue<HeapEntry, std::vector<HeapEntry>, HeapOrder> heap_;
 };
 
-// Does segment bc meet a lattice's box (in that lattice's input space)? Slab test in box
-// coordinates, with the boxes' face tolerance.
+// Can some warp act on segment bc (in that warp's input space)?
 bool Remesher::in_domain(VertexIndex b, VertexIndex c) const {
-  for (const Domain& d : domains_) {
-    const Parallelepiped& box = d.lattice->box();
-    const Eigen::Vector3d ub = box.to_local(d.input[b]), uc = box.to_local(d.input[c]);
-    double t0 = 0, t1 = 1;
-    bool hit = true;
-    for (int a = 0; a < 3 && hit; ++a) {
-      const double lo = -kBoxTolerance, hi = 1 + kBoxTolerance, delta = uc[a] - ub[a];
-      if (delta == 0) {
-        hit = ub[a] >= lo && ub[a] <= hi;
-        continue;
-      }
-      double ta = (lo - ub[a]) / delta, tb = (hi - ub[a]) / delta;
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta);
-      t1 = std::min(t1, tb);
-      hit = t0 <= t1;
-    }
-    if (hit) return true;
-  }
+  for (const Domain& d : domains_)
+    if (d.warp->can_act_on_segment(d.input[b], d.input[c])) return true;
   return false;
 }
 
@@ -255,20 +247,21 @@ void Remesher::triangulate() {
   stats_.triangulated_faces = polygons.size();
   std::map<std::uint32_t, FaceRecord> records;
   for (FaceIndex f : polygons) records[f.idx()] = record(f);
-  auto rest_point = sm_.add_property_map<VertexIndex, Point3>("v:ffd_rest_point").first;
-  for (VertexIndex v : sm_.vertices()) rest_point[v] = to_point(s_.rest[v]);
-
   std::vector<std::pair<FaceIndex, FaceIndex>> made;  // (new face, its polygon)
-  struct Visitor {
-    std::vector<std::pair<FaceIndex, FaceIndex>>* made;
-    FaceIndex current;
-    void before_subface_creations(FaceIndex f) { current = f; }
-    void after_subface_created(FaceIndex f) { made->emplace_back(f, current); }
-    void after_subface_creations() {}
-  };
-  CGAL::Polygon_mesh_processing::triangulate_faces(
-      polygons, sm_, CGAL::parameters::vertex_point_map(rest_point).visitor(Visitor{&made, FaceIndex()}));
-  sm_.remove_property_map(rest_point);
+  {
+    ScratchProperty<VertexIndex, Point3> scratch(sm_, "v:ffd_rest_point");
+    auto& rest_point = scratch.map();
+    for (VertexIndex v : sm_.vertices()) rest_point[v] = to_point(s_.rest[v]);
+    struct Visitor {
+      std::vector<std::pair<FaceIndex, FaceIndex>>* made;
+      FaceIndex current;
+      void before_subface_creations(FaceIndex f) { current = f; }
+      void after_subface_created(FaceIndex f) { made->emplace_back(f, current); }
+      void after_subface_creations() {}
+    };
+    CGAL::Polygon_mesh_processing::triangulate_faces(
+        polygons, sm_, CGAL::parameters::vertex_point_map(rest_point).visitor(Visitor{&made, FaceIndex()}));
+  }
 
   std::vector<std::pair<FaceIndex, FaceIndex>> all = made;
   for (FaceIndex f : polygons) all.emplace_back(f, f);
@@ -583,14 +576,10 @@ void Remesher::run() {
 
 double smallest_cell_extent(const WarpStack& stack) {
   double best = 0;
-  for (std::size_t k = 0; k < stack.size(); ++k)
-    if (const auto* lattice = dynamic_cast<const Lattice*>(&stack.warp(k))) {
-      const Eigen::Vector3d extents = lattice->box().extents();
-      for (int a = 0; a < 3; ++a) {
-        const double cell = extents[a] / lattice->cells()[a];
-        if (best == 0 || cell < best) best = cell;
-      }
-    }
+  for (std::size_t k = 0; k < stack.size(); ++k) {
+    const double size = stack.warp(k).feature_size();
+    if (size > 0 && (best == 0 || size < best)) best = size;
+  }
   return best;
 }
 
@@ -603,7 +592,7 @@ RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOpti
 std::vector<int> vertex_levels(const Mesh& mesh) {
   const SurfaceMesh& sm = mesh.storage().sm;
   std::vector<int> levels(sm.number_of_vertices(), 0);
-  auto map = sm.property_map<VertexIndex, Level>("v:level");
+  auto map = sm.property_map<VertexIndex, Level>(mesh_attribute::kVertexLevel);
   if (map.second)
     for (VertexIndex v : sm.vertices()) levels[v.idx()] = map.first[v];
   return levels;

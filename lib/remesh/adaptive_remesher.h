@@ -10,9 +10,10 @@
 // - Refinement (figure 3): an edge is refined if (a) an endpoint was deformed since the
 //   last remesh and its deformed endpoint normals diverge by more than θmax
 //   (ε = 1 − n̄1·n̄2), or (b) it is longer than Lmax. Longest edge first; the four new
-//   edges are tested and pushed. Condition (b) applies where the warps can act: edges that
-//   meet a lattice's box (the paper's sampling argument, point 1); elsewhere the mesh is
-//   never deformed and splitting would only add vertices.
+//   edges are tested and pushed. Condition (b) applies where the warps can act
+//   (Warp::can_act_on_segment: for a lattice, edges that meet its box; the paper's
+//   sampling argument, point 1); elsewhere the mesh is never deformed and splitting would
+//   only add vertices.
 // - Decimation: candidates are the endpoints of edges whose normals diverge by less than
 //   θmin and that are shorter than Lmax; by level, highest first; a vertex goes only if it
 //   has exactly four incident edges (three on a boundary) that all pass, all neighbours are
@@ -23,6 +24,9 @@
 //   deformed and diverging by more than θmax) is skipped, so a step never leaves an edge
 //   its own trigger would split and remeshing does not oscillate.
 // - Polygon faces are triangulated first (counted in the stats).
+// - Levels and face starts are the mesh's declared attributes (mesh.h: mesh_attribute)
+//   and stay on the mesh for the next remesh step; scratch data is removed before
+//   adaptive_remesh returns.
 // - Deterministic: ties in edge length break by edge index, candidates by vertex index.
 #pragma once
 
@@ -37,12 +41,12 @@
 namespace ffd {
 
 /// Refines and decimates `mesh` after a deformation by `stack`'s warps.
-/// \throw InputError if l_max is automatic and the stack has no
-/// lattice.
+/// \throw InputError if l_max is automatic and no warp on the stack has a feature size
+/// (no lattice).
 RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options);
 
-/// The smallest cell extent over the stack's lattices (box edge length / cells), or 0
-/// when the stack has no lattice. Gain & Dodgson's Lmax.
+/// The smallest Warp::feature_size() over the stack (a lattice's: box edge length /
+/// cells), or 0 when no warp has one. Gain & Dodgson's Lmax.
 double smallest_cell_extent(const WarpStack& stack);
 
 /// Each vertex's refinement level (0 for input vertices and for meshes never remeshed).

@@ -79,6 +79,11 @@ public:
                       std::vector<std::uint32_t>& ids) const override;
   bool has_changes() const override { return any_changed_; }
   void clear_changes() override;
+  /// True when [a, b] meets the box grown by kBoxTolerance in box coordinates (a slab
+  /// test): outside that, apply() leaves points untouched.
+  bool can_act_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override;
+  /// The smallest cell extent: min over the axes of box edge length / cells.
+  double feature_size() const override;
 
   /// Number of polynomial pieces per axis: the B-spline's cells, one for Bernstein.
   virtual Index3 pieces() const = 0;

@@ -40,6 +40,16 @@ public:
   virtual void clear_changes() = 0;
   /// Brings caches up to date after changes; called before batch evaluation.
   virtual void prepare() {}
+
+  /// Whether the warp can act anywhere on the segment [a, b] of its input space (ends
+  /// included). False promises F(x) = x bit for bit along the whole segment, whatever the
+  /// warp's points do; ops use it to confine work to where the warps act (remesh: the
+  /// Lmax rule). The default, true, is right for a warp that cannot bound where it acts.
+  virtual bool can_act_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const { return true; }
+  /// The smallest length, in input-space units, over which the warp's control can vary
+  /// the deformation (a lattice: its smallest cell extent); 0 when it has no such scale.
+  /// Gain & Dodgson's Lmax is the smallest over the stack.
+  virtual double feature_size() const { return 0; }
 };
 
 /// cof(J) n: the covariant transform of a normal, unnormalized.
