@@ -39,16 +39,10 @@ FILESYSTEM_PREFIXES = ("/proc/", "/dev/", "/tmp/", "/usr/", "/etc/", "/sys/", "/
 # when the function is split; an entry that matches nothing is reported as a note.
 LONG_FUNCTION_ALLOWLIST = {
     "lib/bcm/bcm_editor.cpp: BcmEditor::BcmEditor": "split by the BCM issue",
-    "lib/script/runner.cpp: run_script": "being split by the typed-steps change",
 }
 
-# Folders exempt from the json-pointer rule, folder -> why.
-# TEMPORARY: lib/bcm still throws BcmInputError("/k", ...) and friends; that is being
-# removed (the errors will carry no JSON place; the script layer adds it). Drop this entry
-# with that change, so the rule then holds for lib/bcm too.
-JSON_POINTER_ALLOWLIST = {
-    "lib/bcm": "TEMPORARY: BcmInputError's JSON pointers are being removed from lib/bcm",
-}
+# Folders exempt from the json-pointer rule, folder -> why (none: the rule holds everywhere).
+JSON_POINTER_ALLOWLIST = {}
 
 
 def strip_source(text):

@@ -88,6 +88,16 @@ TEST(ErrorPlacement, AFrozenLatticeNamesTheLatticeKey) {
   expect_error(o, 2, dir + "/s.json: /steps/2/lattice", "frozen into the mesh by the surface edit at /steps/1");
 }
 
+// The remesher's own InputError about its l_max option: after a surface edit froze the
+// lattice, "auto" has no lattice cell to take.
+TEST(ErrorPlacement, TheRemeshersErrorNamesLMax) {
+  const std::string dir = case_folder("place_l_max", script_with(R"({"op": "lattice", "name": "b", "cells": [4, 4, 4]},
+      {"op": "bcm", "name": "e", "support": {"sphere": {"center": [1.24, 6.29, 1.05], "radius": 2.0}},
+       "handles": [{"name": "h", "select": {"near": [1.24, 6.29, 1.05]}}]},
+      {"op": "remesh"})"));
+  expect_error(run_limited(dir, data("bunny.obj"), "true"), 2, dir + "/s.json: /steps/2/l_max", "no lattice");
+}
+
 // TopologyError (quads where the k-harmonic system needs triangles): exit 2 at the
 // support, and the type that reaches the runner is TopologyError.
 TEST(ErrorPlacement, TopologyErrorIsAnInputErrorAtTheSupport) {

@@ -538,7 +538,7 @@ void Remesher::compact_tables() {
 
 void Remesher::run() {
   if (!(l_max_ > 0))
-    throw InputError("l_max is \"auto\" but no lattice is on the warp stack; give l_max as a length");
+    throw InputError("l_max is \"auto\" but no lattice is on the warp stack; give l_max as a length", {"l_max"});
   stats_.faces_before = sm_.number_of_faces();
   triangulate();
 

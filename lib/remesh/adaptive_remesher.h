@@ -41,7 +41,7 @@
 namespace ffd {
 
 /// Refines and decimates `mesh` after a deformation by `stack`'s warps.
-/// \throw InputError if l_max is automatic and no warp on the stack has a feature size
+/// \throw InputError about "l_max" if l_max is automatic and no warp on the stack has a feature size
 /// (no lattice).
 RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options);
 

@@ -82,6 +82,9 @@ struct Key {
 /// The keys of `Spec` in order, and the key groups of which exactly one must be given.
 template <class Spec>
 struct KeyTable {
+  KeyTable(std::vector<Key<Spec>> keys_in, std::vector<std::vector<std::string>> alternatives_in = {})
+      : keys(std::move(keys_in)), alternatives(std::move(alternatives_in)) {}
+
   std::vector<Key<Spec>> keys;
   std::vector<std::vector<std::string>> alternatives;
 
