@@ -38,7 +38,6 @@ FILESYSTEM_PREFIXES = ("/proc/", "/dev/", "/tmp/", "/usr/", "/etc/", "/sys/", "/
 # Known long functions, "file: function" -> why it is allowed for now. Remove an entry
 # when the function is split; an entry that matches nothing is reported as a note.
 LONG_FUNCTION_ALLOWLIST = {
-    "lib/bcm/bcm_editor.cpp: BcmEditor::BcmEditor": "split by the BCM issue",
 }
 
 # Folders exempt from the json-pointer rule, folder -> why (none: the rule holds everywhere).

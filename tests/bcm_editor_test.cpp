@@ -22,9 +22,9 @@ Eigen::Matrix3Xd posed(const Mesh& mesh, const std::vector<BcmHandle>& handles, 
   return out;
 }
 
-double max_free_difference(const BcmEditor& editor, const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& reference) {
+double max_free_difference(const BcmData& editor, const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& reference) {
   double worst = 0;
-  const auto& free = editor.free_vertices();
+  const auto& free = editor.regions.free;
   for (std::size_t i = 0; i < free.size(); ++i)
     worst = std::max(worst, (positions.col(free[i]) - reference.col(static_cast<Eigen::Index>(i))).cwiseAbs().maxCoeff());
   return worst;
@@ -46,19 +46,19 @@ TEST(BcmEditor, EqualsDirectSolveOfKHarmonicSystemOnSphere) {
     BcmOptions options;
     options.k = k;
     options.detail = false;
-    BcmEditor editor(mesh, support, handles, options);
-    EXPECT_TRUE(editor.stats().symmetric);
+    BcmData editor = bcm_precompute(mesh, support, handles, options);
+    EXPECT_TRUE(editor.stats.symmetric);
     std::mt19937 rng(42 + k);
     for (int trial = 0; trial < 4; ++trial) {
-      const Pose pose = test::random_pose(rng, editor.handle_centroid(0), 0.3);
-      editor.set_pose(0, pose.linear, pose.translation);
+      const Pose pose = test::random_pose(rng, editor.centroid.at(0), 0.3);
+      bcm_set_pose(editor, 0, pose.linear, pose.translation);
       Eigen::Matrix3Xd positions = mesh.positions();
-      editor.update(positions);
+      bcm_pose(editor, positions);
       expect_valid(mesh, positions);
       const Eigen::Matrix3Xd target = posed(mesh, handles, {pose});
-      const Eigen::Matrix3Xd reference = test::direct_kharmonic(mesh, mesh.positions(), editor.free_vertices(), target, k);
+      const Eigen::Matrix3Xd reference = test::direct_kharmonic(mesh, mesh.positions(), editor.regions.free, target, k);
       EXPECT_LT(max_free_difference(editor, positions, reference), 1e-9);
-      EXPECT_LT(max_free_difference(editor, positions, editor.solve_free()), 1e-12);
+      EXPECT_LT(max_free_difference(editor, positions, bcm_solve_free(editor)), 1e-12);
       // Handles follow their pose exactly; fixed vertices stay.
       for (std::uint32_t v : handles[0].vertices) EXPECT_LT((positions.col(v) - target.col(v)).norm(), 1e-12);
       for (Eigen::Index v = 0; v < positions.cols(); ++v) {
@@ -85,17 +85,17 @@ TEST(BcmEditor, EqualsDirectSolveOnBunnyWithTwoHandles) {
     BcmOptions options;
     options.k = k;
     options.detail = false;
-    BcmEditor editor(mesh, support, handles, options);
+    BcmData editor = bcm_precompute(mesh, support, handles, options);
     std::mt19937 rng(7 * k);
     for (int trial = 0; trial < 3; ++trial) {
-      const std::vector<Pose> poses = {test::random_pose(rng, editor.handle_centroid(0), 1.0),
-                                       test::random_pose(rng, editor.handle_centroid(1), 1.0)};
-      for (std::size_t h = 0; h < 2; ++h) editor.set_pose(h, poses[h].linear, poses[h].translation);
+      const std::vector<Pose> poses = {test::random_pose(rng, editor.centroid.at(0), 1.0),
+                                       test::random_pose(rng, editor.centroid.at(1), 1.0)};
+      for (std::size_t h = 0; h < 2; ++h) bcm_set_pose(editor, h, poses[h].linear, poses[h].translation);
       Eigen::Matrix3Xd positions = mesh.positions();
-      editor.update(positions);
+      bcm_pose(editor, positions);
       expect_valid(mesh, positions);
       const Eigen::Matrix3Xd reference =
-          test::direct_kharmonic(mesh, mesh.positions(), editor.free_vertices(), posed(mesh, handles, poses), k);
+          test::direct_kharmonic(mesh, mesh.positions(), editor.regions.free, posed(mesh, handles, poses), k);
       EXPECT_LT(max_free_difference(editor, positions, reference), 1e-9);
     }
   }
@@ -113,20 +113,20 @@ TEST(BcmEditor, BlendedContinuityEqualsTheLambdaRecursionSolvedDirectly) {
   options.outer_continuity = 1.3;
   options.inner_continuity = 0.6;
   options.detail = false;
-  BcmEditor editor(mesh, support, handles, options);
-  EXPECT_FALSE(editor.stats().symmetric);
+  BcmData editor = bcm_precompute(mesh, support, handles, options);
+  EXPECT_FALSE(editor.stats.symmetric);
   std::mt19937 rng(11);
-  const Pose pose = test::random_pose(rng, editor.handle_centroid(0), 0.3);
-  editor.set_pose(0, pose.linear, pose.translation);
+  const Pose pose = test::random_pose(rng, editor.centroid.at(0), 0.3);
+  bcm_set_pose(editor, 0, pose.linear, pose.translation);
   Eigen::Matrix3Xd positions = mesh.positions();
-  editor.update(positions);
+  bcm_pose(editor, positions);
   expect_valid(mesh, positions);
 
   const Eigen::Index n = static_cast<Eigen::Index>(mesh.num_vertices());
   const Laplacian lap = cotan_laplacian(mesh.positions(), test::all_triangles(mesh));
   const Eigen::MatrixXd w(lap.weights);
   std::vector<int> kind(static_cast<std::size_t>(n), 0);  // 0 fixed, 1 free, 2 handle
-  for (std::uint32_t v : editor.free_vertices()) kind[v] = 1;
+  for (std::uint32_t v : editor.regions.free) kind[v] = 1;
   for (std::uint32_t v : handles[0].vertices) kind[v] = 2;
   const auto lambda = [&](int j) {
     Eigen::VectorXd d(n);
@@ -139,7 +139,7 @@ TEST(BcmEditor, BlendedContinuityEqualsTheLambdaRecursionSolvedDirectly) {
   };
   const Eigen::MatrixXd a = w * lambda(2).asDiagonal() * w * lambda(1).asDiagonal() * w;
   const Eigen::Matrix3Xd target = posed(mesh, handles, {pose});
-  const auto& free = editor.free_vertices();
+  const auto& free = editor.regions.free;
   const Eigen::Index p = static_cast<Eigen::Index>(free.size());
   Eigen::MatrixXd app(p, p), rhs = Eigen::MatrixXd::Zero(p, 3);
   for (Eigen::Index i = 0; i < p; ++i) {
@@ -152,10 +152,10 @@ TEST(BcmEditor, BlendedContinuityEqualsTheLambdaRecursionSolvedDirectly) {
   // And it differs from the C^2 solution: the blend does something.
   BcmOptions clamped = options;
   clamped.outer_continuity = clamped.inner_continuity = 2;
-  BcmEditor c2(mesh, support, handles, clamped);
-  c2.set_pose(0, pose.linear, pose.translation);
+  BcmData c2 = bcm_precompute(mesh, support, handles, clamped);
+  bcm_set_pose(c2, 0, pose.linear, pose.translation);
   Eigen::Matrix3Xd other = mesh.positions();
-  c2.update(other);
+  bcm_pose(c2, other);
   EXPECT_GT((other - positions).cwiseAbs().maxCoeff(), 1e-3);
 }
 

@@ -23,10 +23,10 @@ bool in_disk(const Eigen::Vector3d& p, double x, double y, double r) { return st
 
 Eigen::Matrix3Xd edit(const Mesh& mesh, const std::vector<std::uint32_t>& support, const std::vector<BcmHandle>& handles,
                       const BcmOptions& options, const test::Pose& pose) {
-  BcmEditor editor(mesh, support, handles, options);
-  editor.set_pose(0, pose.linear, pose.translation);
+  BcmData editor = bcm_precompute(mesh, support, handles, options);
+  bcm_set_pose(editor, 0, pose.linear, pose.translation);
   Eigen::Matrix3Xd positions = mesh.positions();
-  editor.update(positions);
+  bcm_pose(editor, positions);
   EXPECT_TRUE(positions.allFinite());
   return positions;
 }
@@ -54,12 +54,12 @@ TEST(BcmPlane, MembraneIsHarmonic) {
   test::Pose pose = lift(0.2);
   pose.linear = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
   pose.translation += Eigen::Vector3d(0.55, 0.5, 0) - pose.linear * Eigen::Vector3d(0.55, 0.5, 0);
-  BcmEditor editor(grid, support, handles, options(1));
-  editor.set_pose(0, pose.linear, pose.translation);
+  BcmData editor = bcm_precompute(grid, support, handles, options(1));
+  bcm_set_pose(editor, 0, pose.linear, pose.translation);
   Eigen::Matrix3Xd p = grid.positions();
-  editor.update(p);
+  bcm_pose(editor, p);
   double moved = 0;
-  for (std::uint32_t v : editor.free_vertices()) {
+  for (std::uint32_t v : editor.regions.free) {
     const int i = static_cast<int>(v % (kN + 1)), j = static_cast<int>(v / (kN + 1));
     // The 5-point mean value property (this grid's cotangent Laplacian), in x, y and z.
     const Eigen::Vector3d mean = (p.col(id(i - 1, j)) + p.col(id(i + 1, j)) + p.col(id(i, j - 1)) + p.col(id(i, j + 1))) / 4;
@@ -105,18 +105,18 @@ Profile profile(int k, double outer, double inner) {
   const Mesh grid = test::grid_mesh(kN);
   const auto support = test::pick(grid, [](const Eigen::Vector3d& p) { return in_disk(p, 0.5, 0.5, 0.4); });
   const std::vector<BcmHandle> handles = {{"h", test::pick(grid, [](const Eigen::Vector3d& p) { return in_disk(p, 0.5, 0.5, 0.1); })}};
-  BcmEditor editor(grid, support, handles, options(k, outer, inner));
-  editor.set_pose(0, Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, 0.2));
+  BcmData editor = bcm_precompute(grid, support, handles, options(k, outer, inner));
+  bcm_set_pose(editor, 0, Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, 0.2));
   Eigen::Matrix3Xd p = grid.positions();
-  editor.update(p);
+  bcm_pose(editor, p);
   std::vector<char> kind(grid.num_vertices(), 'f');  // f fixed, p free, h handle
-  for (std::uint32_t v : editor.free_vertices()) kind[v] = 'p';
+  for (std::uint32_t v : editor.regions.free) kind[v] = 'p';
   for (std::uint32_t v : handles[0].vertices) kind[v] = 'h';
   Profile out;
-  out.z.resize(static_cast<Eigen::Index>(editor.free_vertices().size()));
+  out.z.resize(static_cast<Eigen::Index>(editor.regions.free.size()));
   int n_outer = 0, n_inner = 0;
-  for (std::size_t f = 0; f < editor.free_vertices().size(); ++f) {
-    const std::uint32_t v = editor.free_vertices()[f];
+  for (std::size_t f = 0; f < editor.regions.free.size(); ++f) {
+    const std::uint32_t v = editor.regions.free[f];
     out.z[static_cast<Eigen::Index>(f)] = p(2, v);
     const int i = static_cast<int>(v % (kN + 1)), j = static_cast<int>(v / (kN + 1));
     bool by_fixed = false, by_handle = false;
@@ -178,16 +178,16 @@ TEST(BcmPlane, AnisotropicBendingEvensTheBoundarySlope) {
   const auto support = test::pick(grid, inside);
   const std::vector<BcmHandle> handles = {{"h", test::pick(grid, [](const Eigen::Vector3d& p) { return in_disk(p, 0.5, 0.5, 0.04); })}};
   const auto variation = [&](LaplacianKind kind) {
-    BcmEditor editor(grid, support, handles, options(1, -1, -1, kind));
-    editor.set_pose(0, Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, 0.1));
+    BcmData editor = bcm_precompute(grid, support, handles, options(1, -1, -1, kind));
+    bcm_set_pose(editor, 0, Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, 0.1));
     Eigen::Matrix3Xd p = grid.positions();
-    editor.update(p);
+    bcm_pose(editor, p);
     // Slope at each free vertex next to the fixed surface (the outer boundary), corners
     // left out: z over the grid step to its fixed neighbour (where z = 0).
     std::vector<char> fixed(grid.num_vertices(), 1);
     for (std::uint32_t v : support) fixed[v] = 0;
     std::vector<double> slopes;
-    for (std::uint32_t v : editor.free_vertices()) {
+    for (std::uint32_t v : editor.regions.free) {
       const int i = static_cast<int>(v % (n + 1)), j = static_cast<int>(v / (n + 1));
       const auto at = [&](int a, int b) { return fixed[static_cast<std::size_t>(b * (n + 1) + a)] != 0; };
       const bool side_x = at(i - 1, j) || at(i + 1, j), side_y = at(i, j - 1) || at(i, j + 1);
@@ -237,9 +237,9 @@ TEST(BcmPlane, DetailKeepsTheBumpsAndPlainBcmFlattensThem) {
   // The bent base: the plain BCM surface of the same setup (free vertices), and its normals.
   const Eigen::Matrix3Xd base_normals = vertex_normals(bumpy, plain);
   const Eigen::Matrix3Xd smooth_normals = vertex_normals(flat, smooth);
-  BcmEditor editor(bumpy, support, handles, without);
+  BcmData editor = bcm_precompute(bumpy, support, handles, without);
   double worst = 0, amplitude = 0, flattened = 0, tilt = 0;
-  for (std::uint32_t v : editor.free_vertices()) {
+  for (std::uint32_t v : editor.regions.free) {
     const double original = bumpy.positions()(2, v);
     amplitude = std::max(amplitude, std::abs(original));
     const double kept = (detailed.col(v) - plain.col(v)).dot(base_normals.col(v));
@@ -251,9 +251,9 @@ TEST(BcmPlane, DetailKeepsTheBumpsAndPlainBcmFlattensThem) {
   EXPECT_LT(worst, 0.05 * amplitude) << "amplitude " << amplitude;
   EXPECT_LT(flattened, 0.05 * amplitude);
   // With the identity pose, detail gives back the input surface.
-  BcmEditor identity(bumpy, support, handles, with);
+  BcmData identity = bcm_precompute(bumpy, support, handles, with);
   Eigen::Matrix3Xd same = bumpy.positions();
-  identity.update(same);
+  bcm_pose(identity, same);
   EXPECT_LT((same - bumpy.positions()).cwiseAbs().maxCoeff(), 1e-12);
 }
 

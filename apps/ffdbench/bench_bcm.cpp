@@ -43,14 +43,14 @@ double median(std::vector<double> values);
 
 // Median ms of `frames` updates of handle 0 of `editor` into `positions`, each at a fresh
 // random pose (seed 17, so every editor sees the same poses); returns the last pose too.
-double median_frame_ms(BcmEditor& editor, Eigen::Matrix3Xd& positions, double reach, int frames, Pose& last) {
+double median_frame_ms(BcmData& editor, Eigen::Matrix3Xd& positions, double reach, int frames, Pose& last) {
   std::mt19937 rng(17);
   std::vector<double> times;
   for (int f = 0; f < frames; ++f) {
-    last = random_pose(rng, editor.handle_centroid(0), reach);
-    editor.set_pose(0, last.linear, last.translation);
+    last = random_pose(rng, editor.centroid.at(0), reach);
+    bcm_set_pose(editor, 0, last.linear, last.translation);
     Stopwatch frame_clock;
-    editor.update(positions);
+    bcm_pose(editor, positions);
     times.push_back(frame_clock.ms());
   }
   return median(times);
@@ -90,11 +90,11 @@ Regions cap_regions(const Mesh& mesh, std::size_t support_size, std::size_t hand
 
 // Largest distance, over the free vertices, between `ours` (the basis update) and the
 // editor's direct solve.
-double basis_vs_direct(const BcmEditor& editor, const Eigen::Matrix3Xd& ours) {
-  const Eigen::Matrix3Xd direct = editor.solve_free();
+double basis_vs_direct(const BcmData& editor, const Eigen::Matrix3Xd& ours) {
+  const Eigen::Matrix3Xd direct = bcm_solve_free(editor);
   double largest = 0;
-  for (std::size_t i = 0; i < editor.free_vertices().size(); ++i)
-    largest = std::max(largest, (ours.col(editor.free_vertices()[i]) - direct.col(static_cast<Eigen::Index>(i))).norm());
+  for (std::size_t i = 0; i < editor.regions.free.size(); ++i)
+    largest = std::max(largest, (ours.col(editor.regions.free[i]) - direct.col(static_cast<Eigen::Index>(i))).norm());
   return largest;
 }
 
@@ -155,9 +155,9 @@ json cotan_row(const Mesh& mesh, const std::string& name, const Regions& r, int 
   options.k = k;
   options.detail = false;
   Stopwatch clock;
-  BcmEditor editor(mesh, r.support, {{"handle", r.handle}}, options);
+  BcmData editor = bcm_precompute(mesh, r.support, {{"handle", r.handle}}, options);
   const double setup_ms = clock.ms();
-  const BcmEditor::Stats stats = editor.stats();
+  const BcmStats stats = editor.stats;
 
   // Per frame: the dense update alone.
   Eigen::Matrix3Xd pos = mesh.positions();
@@ -169,13 +169,13 @@ json cotan_row(const Mesh& mesh, const std::string& name, const Regions& r, int 
   // The same with multiresolution detail (its own setup: detail encoding included).
   options.detail = true;
   Stopwatch detail_clock;
-  BcmEditor detailed(mesh, r.support, {{"handle", r.handle}}, options);
+  BcmData detailed = bcm_precompute(mesh, r.support, {{"handle", r.handle}}, options);
   const double detail_setup_ms = detail_clock.ms();
   Eigen::Matrix3Xd dpos = mesh.positions();
   Pose detail_pose{};
   const double detail_frame_ms = median_frame_ms(detailed, dpos, 0.05 * r.diagonal, frames, detail_pose);
 
-  const FairBaseline fair = fair_baseline(mesh, r.handle, editor.free_vertices(), pose, k, ours);
+  const FairBaseline fair = fair_baseline(mesh, r.handle, editor.regions.free, pose, k, ours);
   // Precompute: the whole setup (regions, Laplacian, system, factorization, basis).
   const double precompute_ms = setup_ms;
   return {{"case", "k=" + std::to_string(k) + " cotan, C^" + std::to_string(k - 1) + " boundaries"},
@@ -254,12 +254,12 @@ json variant_row(const Context& ctx, bool anisotropic, const Mesh& mesh, const s
   const Mesh& target = anisotropic ? strip : mesh;
   const std::vector<BcmHandle> handles = {{"handle", anisotropic ? strip_handle : r.handle}};
   Stopwatch clock;
-  BcmEditor editor(target, anisotropic ? strip_support : r.support, handles, options);
+  BcmData editor = bcm_precompute(target, anisotropic ? strip_support : r.support, handles, options);
   const double setup_ms = clock.ms();
   Eigen::Matrix3Xd pos = target.positions();
   Pose pose{};
   const double frame_ms = median_frame_ms(editor, pos, 0.05 * r.diagonal, frames, pose);
-  const BcmEditor::Stats& stats = editor.stats();
+  const BcmStats& stats = editor.stats;
   return {{"case", anisotropic ? "k=3 anisotropic, C^2 boundaries" : "k=3 cotan, C^1 outer / C^2 inner (unsymmetric)"},
           {"mesh", anisotropic ? "wavy 4:1 strip (synthetic)" : name},
           {"free_vertices", stats.free_vertices},

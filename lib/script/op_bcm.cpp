@@ -27,7 +27,7 @@ struct BcmStep final : Step {
 
   void check(ScriptChecks& checks) const override;
   void run(Scene& scene, StepContext& ctx) const override;
-  void report(const BcmEditor& editor, std::size_t support_size, StepContext& ctx) const;
+  void report(const BcmData& bcm, std::size_t support_size, StepContext& ctx) const;
 };
 
 KeyTable<HandleSpec> handle_keys() {
@@ -108,16 +108,16 @@ void BcmStep::run(Scene& scene, StepContext& ctx) const {
   const std::vector<std::uint32_t> support_vertices = select_vertices(support, positions);
   std::vector<BcmHandle> picked;
   for (const HandleSpec& handle : handles) picked.push_back({handle.name, select_vertices(handle.select, positions)});
-  std::unique_ptr<BcmEditor, BcmEditorDelete> editor(new BcmEditor(scene.mesh, support_vertices, picked, options));
-  report(*editor, support_vertices.size(), ctx);
+  auto editor = make_surface_editor(scene.mesh, bcm_precompute(scene.mesh, support_vertices, picked, options));
+  report(editor->bcm, support_vertices.size(), ctx);
   ctx.stats["baked_lattices"] = baked;
   warn_baked(scene, baked, ctx);
   scene.editors[name] = std::move(editor);
 }
 
-void BcmStep::report(const BcmEditor& editor, std::size_t support_size, StepContext& ctx) const {
-  const BcmEditor::Stats& s = editor.stats();
-  const BcmOptions& used = editor.options();
+void BcmStep::report(const BcmData& bcm, std::size_t support_size, StepContext& ctx) const {
+  const BcmStats& s = bcm.stats;
+  const BcmOptions& used = bcm.options;
   const std::string laplacian = name_of(kLaplacians, options.laplacian);
   ctx.stats["editor"] = name;
   ctx.stats["k"] = used.k;

@@ -2,7 +2,6 @@
 // frames (`frames`, each saved with a `{i}` pattern), each pose one small dense product.
 #include <cmath>
 
-#include "bcm/bcm_editor.h"
 #include "common/numbers.h"
 #include "common/timer.h"
 #include "mesh/file_normals.h"
@@ -24,8 +23,8 @@ struct TransformStep final : Step {
   void check(ScriptChecks& checks) const override;
   std::vector<OutputFile> outputs() const override;
   void run(Scene& scene, StepContext& ctx) const override;
-  BcmEditor& editor_to_pose(Scene& scene) const;
-  void report(const BcmEditor& target, std::size_t h, double update_ms, const nlohmann::ordered_json& saved,
+  SurfaceEditor& editor_to_pose(Scene& scene) const;
+  void report(const SurfaceEditor& target, std::size_t h, double update_ms, const nlohmann::ordered_json& saved,
               StepContext& ctx) const;
   std::size_t frame_count() const { return frames.empty() ? 1 : frames.size(); }
 };
@@ -95,10 +94,10 @@ Eigen::Matrix3d rotation_between(const Eigen::Vector3d& a, const Eigen::Vector3d
 // After an edit: fresh (angle-weighted) normals at the vertices whose faces moved, and
 // the file normals there turned by the same rotation as their vertex normal, so that a
 // mesh's own normals (OBJ vn) follow the surface. Vertices elsewhere keep theirs.
-void refresh_normals(Scene& scene, const BcmEditor& editor, Eigen::Matrix3Xd& fresh) {
+void refresh_normals(Scene& scene, const SurfaceEditor& editor, Eigen::Matrix3Xd& fresh) {
   Mesh& mesh = scene.mesh;
   compute_vertex_normals(mesh, mesh.positions(), fresh);
-  const std::vector<std::uint32_t>& ids = editor.normal_vertices();
+  const std::vector<std::uint32_t>& ids = editor.normal_vertices;
   auto normals = mesh.normals();
   auto rest_normals = mesh.rest_normals();
   if (mesh.has_file_normals()) {
@@ -116,9 +115,9 @@ void refresh_normals(Scene& scene, const BcmEditor& editor, Eigen::Matrix3Xd& fr
 }
 
 // The editor, after checking that no step since its setup changed what it holds.
-BcmEditor& TransformStep::editor_to_pose(Scene& scene) const {
-  BcmEditor& target = *scene.editors.at(editor);
-  if (scene.mesh.topology_version() != target.topology_version())
+SurfaceEditor& TransformStep::editor_to_pose(Scene& scene) const {
+  SurfaceEditor& target = *scene.editors.at(editor);
+  if (scene.mesh.topology_version() != target.topology_version)
     throw InputError("a step after editor '" + editor +
                          "' was set up changed the mesh's connectivity (remeshing), so its vertex sets no longer "
                          "apply; set the editor up again with a bcm step after that step",
@@ -127,7 +126,7 @@ BcmEditor& TransformStep::editor_to_pose(Scene& scene) const {
 }
 
 void TransformStep::run(Scene& scene, StepContext& ctx) const {
-  BcmEditor& target = editor_to_pose(scene);
+  SurfaceEditor& target = editor_to_pose(scene);
   const nlohmann::ordered_json baked = bake_stack(scene, ctx.pointer);
   const long changed = target.changed_vertex(scene.mesh.positions());
   if (changed >= 0)
@@ -135,7 +134,7 @@ void TransformStep::run(Scene& scene, StepContext& ctx) const {
                          "' holds or moves, was moved by a step after the editor was set up; set the editor up "
                          "again with a bcm step after that step",
                      {"editor"});
-  const std::size_t h = handle ? target.handle_index(*handle) : 0;
+  const std::size_t h = handle ? bcm_handle_index(target.bcm, *handle) : 0;
   const std::vector<Transform> poses = frames.empty() ? std::vector<Transform>{*transform} : frames;
   Eigen::Matrix3Xd fresh(3, static_cast<Eigen::Index>(scene.mesh.num_vertices()));
   double update_ms = 0, save_ms = 0;
@@ -145,11 +144,11 @@ void TransformStep::run(Scene& scene, StepContext& ctx) const {
     // A pose relative to setup: x -> c + R·S·(x − c) + translate, c the handle's centroid
     // at setup unless given.
     const Transform& t = poses[i];
-    const Eigen::Vector3d center = t.center ? *t.center : target.handle_centroid(h);
+    const Eigen::Vector3d center = t.center ? *t.center : target.bcm.centroid.at(h);
     const Eigen::Matrix3d linear = t.linear();
-    target.set_pose(h, linear, center + t.translate - linear * center);
+    bcm_set_pose(target.bcm, h, linear, center + t.translate - linear * center);
     Stopwatch clock;
-    target.update(scene.mesh.positions());
+    bcm_pose(target.bcm, scene.mesh.positions());
     update_ms += clock.ms();
     if (!save) continue;
     Stopwatch save_clock;
@@ -163,7 +162,7 @@ void TransformStep::run(Scene& scene, StepContext& ctx) const {
   // No warp is left (the stack was baked), so the edit is the rest state too.
   auto positions = scene.mesh.positions();
   auto rest = scene.mesh.rest_positions();
-  for (std::uint32_t v : target.moved_vertices()) rest.col(v) = positions.col(v);
+  for (std::uint32_t v : target.moved) rest.col(v) = positions.col(v);
   target.remember(positions);
   report(target, h, update_ms, saved, ctx);
   ctx.stats["saved_bytes"] = bytes;
@@ -172,20 +171,20 @@ void TransformStep::run(Scene& scene, StepContext& ctx) const {
   warn_baked(scene, baked, ctx);
 }
 
-void TransformStep::report(const BcmEditor& target, std::size_t h, double update_ms,
+void TransformStep::report(const SurfaceEditor& target, std::size_t h, double update_ms,
                            const nlohmann::ordered_json& saved, StepContext& ctx) const {
   const std::size_t count = frame_count();
   const double per_frame = update_ms / static_cast<double>(count);
   ctx.stats["editor"] = editor;
-  ctx.stats["handle"] = target.handle_name(h);
+  ctx.stats["handle"] = target.bcm.names.at(h);
   ctx.stats["frames"] = count;
-  ctx.stats["vertices_moved"] = target.moved_vertices().size();
+  ctx.stats["vertices_moved"] = target.moved.size();
   ctx.stats["frame_ms"] = per_frame;  // mean per frame
   ctx.stats["update_ms"] = update_ms;
   ctx.stats["saved"] = saved;
-  ctx.summary = "transform '" + editor + "' handle '" + target.handle_name(h) + "': " + format_count(count) +
+  ctx.summary = "transform '" + editor + "' handle '" + target.bcm.names.at(h) + "': " + format_count(count) +
                 (count == 1 ? " frame, " : " frames, ") + ms_text(per_frame) + " per frame, " +
-                format_count(target.moved_vertices().size()) + " vertices moved" +
+                format_count(target.moved.size()) + " vertices moved" +
                 (saved.empty() ? std::string()
                                : ", saved " + saved.front().get<std::string>() +
                                      (saved.size() > 1 ? " .. " + saved.back().get<std::string>() : std::string()));

@@ -16,10 +16,10 @@
 
 namespace ffd {
 
-class BcmEditor;
-/// Deletes a BcmEditor (ops_bcm.cpp), so that this header needs only its name.
-struct BcmEditorDelete {
-  void operator()(BcmEditor* editor) const;
+struct SurfaceEditor;
+/// Deletes a SurfaceEditor (surface_edits.cpp), so that this header needs only its name.
+struct SurfaceEditorDelete {
+  void operator()(SurfaceEditor* editor) const;
 };
 
 struct Scene {
@@ -30,7 +30,7 @@ struct Scene {
   /// Lattices frozen into the rest positions by a surface edit: name -> step pointer.
   std::map<std::string, std::string> baked;
   /// Boundary-constraint editors by name (bcm steps), driven by transform steps.
-  std::map<std::string, std::unique_ptr<BcmEditor, BcmEditorDelete>> editors;
+  std::map<std::string, std::unique_ptr<SurfaceEditor, SurfaceEditorDelete>> editors;
 
   std::string output_folder;
   /// Files written by steps, renamed into place only when the whole run succeeds.
