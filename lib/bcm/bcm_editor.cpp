@@ -155,11 +155,13 @@ Eigen::MatrixXd constrained_positions(const BcmData& data) {
 }
 
 // Eq. 6 at the current poses: the base positions of the free vertices, written through
-// `write(i, x)`.
+// `write(i, x)`. Inside an OpenMP team the threads share the vertices; outside one it
+// runs alone.
 template <class Write>
 void evaluate_basis(const BcmData& data, Write write) {
   const long p_count = static_cast<long>(data.regions.free.size());
   const Eigen::Index m = static_cast<Eigen::Index>(data.frame.size());
+#pragma omp for schedule(static)
   for (long i = 0; i < p_count; ++i) {
     Eigen::Vector3d x = data.constant.col(i);
     for (Eigen::Index h = 0; h < m; ++h)
@@ -282,12 +284,12 @@ void bcm_basis(BcmData& data) {
 void bcm_detail(BcmData& data) {
   // The base is the BCM fairing of the support with the same boundary, which is eq. 6 at
   // the setup poses; the detail is the surface over it.
-  data.base = data.stencil_setup;
-  data.base.colwise() += data.origin;
   if (!data.options.detail) return;
-  const Eigen::Matrix3Xd surface = data.base;
-  evaluate_basis(data, [&](long i, const Eigen::Vector3d& x) { data.base.col(i) = x; });
-  data.detail = NormalDetail(data.base, surface, data.stencil.num_free, data.stencil.triangles);
+  Eigen::Matrix3Xd surface = data.stencil_setup;
+  surface.colwise() += data.origin;
+  Eigen::Matrix3Xd base = surface;
+  evaluate_basis(data, [&](long i, const Eigen::Vector3d& x) { base.col(i) = x; });
+  data.detail = NormalDetail(base, surface, data.stencil.num_free, data.stencil.triangles);
 }
 
 BcmData bcm_precompute(const Mesh& mesh, const std::vector<std::uint32_t>& support,
@@ -323,26 +325,33 @@ void bcm_set_pose(BcmData& data, std::size_t h, const Eigen::Matrix3d& linear, c
 void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions) {
   // Eq. 6 per free vertex: p = const + Σ_h [a b c d]_h · (its 4 basis weights of h), a
   // (3 × 4m)·(4m) product with the vertex's weights contiguous; fixed-size 3 × 4 blocks,
-  // no temporaries. One thread: at 35k vertices this takes about 0.15 ms, less than
-  // waking a second thread costs when the machine is busy.
+  // no temporaries. One team of threads for the whole frame; each vertex is written by one
+  // thread with the same arithmetic whatever their number.
   const bool detail = data.options.detail;
   const std::uint32_t* free = data.regions.free.data();
-  if (detail)
-    evaluate_basis(data, [&](long i, const Eigen::Vector3d& x) { data.base.col(i) = x; });
-  else
-    evaluate_basis(data, [&](long i, const Eigen::Vector3d& x) { positions.col(free[i]) = x; });
-  for (std::size_t h = 0; h < data.frame.size(); ++h) {
-    const std::vector<std::uint32_t>& ids = data.regions.handles[h];
-    const Eigen::Matrix3d& a = data.linear[h];
-    const Eigen::Vector3d& t = data.translation[h];
-    for (std::size_t i = 0; i < ids.size(); ++i) {
-      const Eigen::Vector3d x = a * data.handle_setup[h].col(static_cast<Eigen::Index>(i)) + t;
-      positions.col(ids[i]) = x;
-      if (detail && data.handle_local[h][i] != UINT32_MAX) data.base.col(data.handle_local[h][i]) = x;
+#pragma omp parallel
+  {
+    // With detail, the moved base goes straight into the detail's own copy of it.
+    Eigen::Matrix3Xd& base = data.detail.base_in_slots();
+    if (detail)
+      evaluate_basis(data, [&](long i, const Eigen::Vector3d& x) { base.col(data.detail.slot(static_cast<std::uint32_t>(i))) = x; });
+    else
+      evaluate_basis(data, [&](long i, const Eigen::Vector3d& x) { positions.col(free[i]) = x; });
+#pragma omp single
+    for (std::size_t h = 0; h < data.frame.size(); ++h) {
+      const std::vector<std::uint32_t>& ids = data.regions.handles[h];
+      const Eigen::Matrix3d& a = data.linear[h];
+      const Eigen::Vector3d& t = data.translation[h];
+      for (std::size_t i = 0; i < ids.size(); ++i) {
+        const Eigen::Vector3d x = a * data.handle_setup[h].col(static_cast<Eigen::Index>(i)) + t;
+        positions.col(ids[i]) = x;
+        const std::uint32_t slot = detail ? data.detail.slot(data.handle_local[h][i]) : UINT32_MAX;
+        if (slot != UINT32_MAX) base.col(slot) = x;
+      }
     }
+    // Section 4: the detail rides on the moved base.
+    if (detail) data.detail.reconstruct_in_team(positions, data.regions.free);
   }
-  // Section 4: the detail rides on the moved base.
-  if (detail) data.detail.reconstruct(data.base, positions, data.regions.free);
 }
 
 Eigen::Matrix3Xd bcm_solve_free(const BcmData& data) {

@@ -82,9 +82,8 @@ struct BcmData {
   std::vector<std::vector<std::uint32_t>> handle_local;  // their stencil indices (UINT32_MAX outside)
   std::vector<Eigen::Matrix3d> linear;                   // current poses
   std::vector<Eigen::Vector3d> translation;
-  // Detail (section 4).
+  // Detail (section 4): it holds the base surface for the current poses.
   NormalDetail detail;
-  Eigen::Matrix3Xd base;  // 3 × V: the base surface on the stencil for the current poses
 };
 
 /// Phase 1, regions and rings: checks the options, splits the support into free and

@@ -8,119 +8,202 @@
 namespace ffd {
 
 NormalDetail::NormalDetail(const Eigen::Ref<const Eigen::Matrix3Xd>& base, const Eigen::Ref<const Eigen::Matrix3Xd>& detailed,
-                           std::size_t count, const std::vector<Triangle>& triangles) {
+                           std::size_t count, const std::vector<Triangle>& triangles)
+    : count_(count) {
+  number_slots(count, static_cast<std::size_t>(base.cols()), triangles);
+  positions_.resize(3, static_cast<Eigen::Index>(slots_.size()));
+  results_.resize(3, static_cast<Eigen::Index>(count));
+  face_normals_.resize(3, static_cast<Eigen::Index>(triangles_.size()));
+  coefficients_.resize(3, static_cast<Eigen::Index>(count));
+  choose_references(base);
+  gather(base);
+  face_normals();
+  Block3 normal, tangent, bitangent;
+  BlockFlags flat;
+  for (long first = 0; first < static_cast<long>(count); first += kBlock) {
+    block_frames(first, normal, tangent, bitangent, flat);
+    for (long j = 0; j < kBlock && first + j < static_cast<long>(count); ++j) {
+      const long s = first + j;
+      const std::uint32_t v = slots_[static_cast<std::size_t>(s)];
+      const Eigen::Vector3d d = detailed.col(v) - base.col(v);
+      if (flat[j]) {
+        coefficients_.col(s) = d;
+      } else {
+        coefficients_(0, s) = d.dot(normal.col(j).matrix());
+        coefficients_(1, s) = d.dot(tangent.col(j).matrix());
+        coefficients_(2, s) = d.dot(bitangent.col(j).matrix());
+      }
+    }
+  }
+}
+
+void NormalDetail::number_slots(std::size_t count, std::size_t n, const std::vector<Triangle>& triangles) {
+  std::vector<Triangle> local;
   for (const Triangle& t : triangles)
-    if (t[0] < count || t[1] < count || t[2] < count) triangles_.push_back(t);
-  // By lowest vertex, so that a vertex's triangles sit close together in memory (the
-  // per-frame gather of face normals is bound by memory latency).
+    if (t[0] < count || t[1] < count || t[2] < count) local.push_back(t);
+  std::vector<std::uint32_t> offset(n + 1, 0), around;
+  for (const Triangle& t : local)
+    for (std::uint32_t v : t) ++offset[v + 1];
+  for (std::size_t v = 0; v < n; ++v) offset[v + 1] += offset[v];
+  around.resize(offset.back());
+  std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
+  for (std::size_t t = 0; t < local.size(); ++t)
+    for (std::uint32_t v : local[t]) around[fill[v]++] = static_cast<std::uint32_t>(t);
+  // Detail vertices breadth first, each connected part from its lowest vertex; then the rest.
+  std::vector<std::uint32_t> slot_of(n, UINT32_MAX);
+  slots_.clear();
+  const auto take = [&](std::uint32_t v) {
+    slot_of[v] = static_cast<std::uint32_t>(slots_.size());
+    slots_.push_back(v);
+  };
+  for (std::uint32_t seed = 0; seed < count; ++seed) {
+    if (slot_of[seed] != UINT32_MAX) continue;
+    take(seed);
+    for (std::size_t q = slots_.size() - 1; q < slots_.size(); ++q)
+      for (std::uint32_t e = offset[slots_[q]]; e < offset[slots_[q] + 1]; ++e)
+        for (std::uint32_t u : local[around[e]])
+          if (u < count && slot_of[u] == UINT32_MAX) take(u);
+  }
+  for (const Triangle& t : local)
+    for (std::uint32_t u : t)
+      if (slot_of[u] == UINT32_MAX) take(u);
+  slot_of_ = slot_of;
+  // Triangles in slots, by lowest slot, so that a vertex's triangles sit close together.
+  triangles_.clear();
+  for (const Triangle& t : local) triangles_.push_back({slot_of[t[0]], slot_of[t[1]], slot_of[t[2]]});
   std::stable_sort(triangles_.begin(), triangles_.end(), [](const Triangle& a, const Triangle& b) {
     return std::min({a[0], a[1], a[2]}) < std::min({b[0], b[1], b[2]});
   });
   incident_offset_.assign(count + 1, 0);
   for (const Triangle& t : triangles_)
-    for (std::uint32_t v : t)
-      if (v < count) ++incident_offset_[v + 1];
-  for (std::size_t i = 0; i < count; ++i) incident_offset_[i + 1] += incident_offset_[i];
+    for (std::uint32_t s : t)
+      if (s < count) ++incident_offset_[s + 1];
+  for (std::size_t s = 0; s < count; ++s) incident_offset_[s + 1] += incident_offset_[s];
   incident_.resize(incident_offset_.back());
-  std::vector<std::uint32_t> fill(incident_offset_.begin(), incident_offset_.end() - 1);
+  std::vector<std::uint32_t> next(incident_offset_.begin(), incident_offset_.end() - 1);
   for (std::size_t t = 0; t < triangles_.size(); ++t)
-    for (std::uint32_t v : triangles_[t])
-      if (v < count) incident_[fill[v]++] = static_cast<std::uint32_t>(t);
-  const Eigen::Index n = static_cast<Eigen::Index>(count);
-  face_normals_.resize(3, static_cast<Eigen::Index>(triangles_.size()));
-  normal_.resize(3, n);
-  tangent_.resize(3, n);
-  bitangent_.resize(3, n);
-  degenerate_.resize(n);
-  coefficients_.resize(3, n);
+    for (std::uint32_t s : triangles_[t])
+      if (s < count) incident_[next[s]++] = static_cast<std::uint32_t>(t);
+}
 
-  // The reference neighbour: the one with the longest part in the tangent plane (ties to
-  // the lowest index), fixed now so that the frame turns with the surface instead of
-  // jumping between neighbours.
-  reference_.assign(count, 0);
-  for (std::size_t i = 0; i < count; ++i) {
+void NormalDetail::choose_references(const Eigen::Ref<const Eigen::Matrix3Xd>& base) {
+  reference_.assign(count_, 0);
+  for (std::size_t s = 0; s < count_; ++s) {
+    const Eigen::Vector3d p = base.col(slots_[s]);
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (std::uint32_t e = incident_offset_[i]; e < incident_offset_[i + 1]; ++e) {
+    for (std::uint32_t e = incident_offset_[s]; e < incident_offset_[s + 1]; ++e) {
       const Triangle& t = triangles_[incident_[e]];
-      const Eigen::Vector3d a = base.col(t[0]);
-      sum += (base.col(t[1]) - a).cross(base.col(t[2]) - a);
+      const Eigen::Vector3d a = base.col(slots_[t[0]]);
+      sum += (base.col(slots_[t[1]]) - a).cross(base.col(slots_[t[2]]) - a);
     }
     const Eigen::Vector3d normal = sum.norm() > 0 ? Eigen::Vector3d(sum.normalized()) : Eigen::Vector3d::Zero();
     double best = -1;
-    for (std::uint32_t e = incident_offset_[i]; e < incident_offset_[i + 1]; ++e)
+    for (std::uint32_t e = incident_offset_[s]; e < incident_offset_[s + 1]; ++e)
       for (std::uint32_t j : triangles_[incident_[e]]) {
-        if (j == i) continue;
-        const Eigen::Vector3d d = base.col(j) - base.col(static_cast<Eigen::Index>(i));
+        if (j == s) continue;
+        const Eigen::Vector3d d = base.col(slots_[j]) - p;
         const double tangential = (d - d.dot(normal) * normal).norm();
-        if (tangential > best || (tangential == best && j < reference_[i])) {
+        if (tangential > best || (tangential == best && slots_[j] < slots_[reference_[s]])) {
           best = tangential;
-          reference_[i] = j;
+          reference_[s] = j;
         }
       }
   }
+}
 
-  frames(base);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::Vector3d d = detailed.col(i) - base.col(i);
-    if (degenerate_[i]) {
-      coefficients_.col(i) = d;
-    } else {
-      coefficients_(0, i) = d.dot(normal_.col(i).matrix());
-      coefficients_(1, i) = d.dot(tangent_.col(i).matrix());
-      coefficients_(2, i) = d.dot(bitangent_.col(i).matrix());
-    }
+void NormalDetail::gather(const Eigen::Ref<const Eigen::Matrix3Xd>& base) const {
+  const long slots = static_cast<long>(slots_.size());
+  // Inside a parallel region this loop shares the work; outside it it runs alone.
+#pragma omp for schedule(static)
+  for (long s = 0; s < slots; ++s) positions_.col(s) = base.col(slots_[static_cast<std::size_t>(s)]);
+}
+
+void NormalDetail::face_normals() const {
+  const long faces = static_cast<long>(triangles_.size());
+#pragma omp for schedule(static)
+  for (long f = 0; f < faces; ++f) {
+    const Triangle& t = triangles_[static_cast<std::size_t>(f)];
+    const Eigen::Vector3d a = positions_.col(t[0]);
+    // Twice the area times the unit normal: area-weighted vertex normals.
+    face_normals_.col(f) = (positions_.col(t[1]) - a).cross(positions_.col(t[2]) - a);
   }
 }
 
-void NormalDetail::frames(const Eigen::Ref<const Eigen::Matrix3Xd>& base) const {
-  const Eigen::Index n = static_cast<Eigen::Index>(reference_.size());
-  for (std::size_t t = 0; t < triangles_.size(); ++t) {
-    const Triangle& tri = triangles_[t];
-    const Eigen::Vector3d a = base.col(tri[0]);
-    // Twice the area times the unit normal: area-weighted vertex normals.
-    face_normals_.col(static_cast<Eigen::Index>(t)) = (base.col(tri[1]) - a).cross(base.col(tri[2]) - a);
-  }
-  // Gather: summed face normals into normal_, the direction to the reference into tangent_.
-  for (Eigen::Index i = 0; i < n; ++i) {
+void NormalDetail::block_frames(long first, Block3& n, Block3& t, Block3& b, BlockFlags& flat) const {
+  // Gather: summed face normals into n, the direction to the reference into t.
+  for (long j = 0; j < kBlock; ++j) {
+    const std::size_t s = static_cast<std::size_t>(first + j);
+    if (s >= count_) {  // padding: any regular frame
+      n.col(j) = Eigen::Vector3d::UnitZ().array();
+      t.col(j) = Eigen::Vector3d::UnitX().array();
+      continue;
+    }
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (std::uint32_t e = incident_offset_[static_cast<std::size_t>(i)]; e < incident_offset_[static_cast<std::size_t>(i) + 1]; ++e)
-      sum += face_normals_.col(incident_[e]);
-    normal_.col(i) = sum;
-    tangent_.col(i) = base.col(reference_[static_cast<std::size_t>(i)]) - base.col(i);
+    for (std::uint32_t e = incident_offset_[s]; e < incident_offset_[s + 1]; ++e) sum += face_normals_.col(incident_[e]);
+    n.col(j) = sum.array();
+    t.col(j) = (positions_.col(reference_[s]) - positions_.col(static_cast<Eigen::Index>(s))).array();
   }
   // Row arithmetic: n = sum/|sum|, t = (d − (d·n)n)/|…|, b = n × t.
-  const Eigen::Array<double, 1, Eigen::Dynamic> length2 =
-      normal_.row(0).square() + normal_.row(1).square() + normal_.row(2).square();
-  const Eigen::Array<double, 1, Eigen::Dynamic> reference2 =
-      tangent_.row(0).square() + tangent_.row(1).square() + tangent_.row(2).square();
-  const Eigen::Array<double, 1, Eigen::Dynamic> inverse_length = length2.sqrt().inverse();
-  for (int r = 0; r < 3; ++r) normal_.row(r) *= inverse_length;
-  const Eigen::Array<double, 1, Eigen::Dynamic> along =
-      tangent_.row(0) * normal_.row(0) + tangent_.row(1) * normal_.row(1) + tangent_.row(2) * normal_.row(2);
-  for (int r = 0; r < 3; ++r) tangent_.row(r) -= along * normal_.row(r);
-  const Eigen::Array<double, 1, Eigen::Dynamic> tangent2 =
-      tangent_.row(0).square() + tangent_.row(1).square() + tangent_.row(2).square();
-  const Eigen::Array<double, 1, Eigen::Dynamic> inverse_tangent = tangent2.sqrt().inverse();
-  for (int r = 0; r < 3; ++r) tangent_.row(r) *= inverse_tangent;
-  bitangent_.row(0) = normal_.row(1) * tangent_.row(2) - normal_.row(2) * tangent_.row(1);
-  bitangent_.row(1) = normal_.row(2) * tangent_.row(0) - normal_.row(0) * tangent_.row(2);
-  bitangent_.row(2) = normal_.row(0) * tangent_.row(1) - normal_.row(1) * tangent_.row(0);
+  using Row = Eigen::Array<double, 1, kBlock>;
+  const Row length2 = n.row(0).square() + n.row(1).square() + n.row(2).square();
+  const Row reference2 = t.row(0).square() + t.row(1).square() + t.row(2).square();
+  const Row inverse_length = length2.sqrt().inverse();
+  for (int r = 0; r < 3; ++r) n.row(r) *= inverse_length;
+  const Row along = t.row(0) * n.row(0) + t.row(1) * n.row(1) + t.row(2) * n.row(2);
+  for (int r = 0; r < 3; ++r) t.row(r) -= along * n.row(r);
+  const Row tangent2 = t.row(0).square() + t.row(1).square() + t.row(2).square();
+  const Row inverse_tangent = tangent2.sqrt().inverse();
+  for (int r = 0; r < 3; ++r) t.row(r) *= inverse_tangent;
+  b.row(0) = n.row(1) * t.row(2) - n.row(2) * t.row(1);
+  b.row(1) = n.row(2) * t.row(0) - n.row(0) * t.row(2);
+  b.row(2) = n.row(0) * t.row(1) - n.row(1) * t.row(0);
   // Degenerate: no normal, or a reference direction (nearly) along the normal.
-  degenerate_ = !(length2 > 0) || !(tangent2 > 1e-24 * reference2);
+  flat = !(length2 > 0) || !(tangent2 > 1e-24 * reference2);
 }
 
 void NormalDetail::reconstruct(const Eigen::Ref<const Eigen::Matrix3Xd>& base, Eigen::Ref<Eigen::Matrix3Xd> out,
                                const std::vector<std::uint32_t>& columns) const {
-  frames(base);
-  const Eigen::Index n = static_cast<Eigen::Index>(reference_.size());
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const auto c = coefficients_.col(i);
-    const std::uint32_t target = columns[static_cast<std::size_t>(i)];
-    if (degenerate_[i])
-      out.col(target) = base.col(i) + c.matrix();
-    else
-      out.col(target) = base.col(i) + (c[0] * normal_.col(i) + c[1] * tangent_.col(i) + c[2] * bitangent_.col(i)).matrix();
+#pragma omp parallel
+  {
+    gather(base);
+    reconstruct_in_team(out, columns);
   }
+}
+
+void NormalDetail::reconstruct_in_team(Eigen::Ref<Eigen::Matrix3Xd> out, const std::vector<std::uint32_t>& columns) const {
+  const long count = static_cast<long>(count_), blocks = (count + kBlock - 1) / kBlock;
+  // Three passes shared by the team, each element written by one thread with the same
+  // arithmetic whatever their number: face normals, per block of detail slots their
+  // frames and their detail added back, and the results out in vertex order (so that the
+  // writes into `out` run along it, not across it).
+  {
+    face_normals();
+    Block3 normal, tangent, bitangent;
+    BlockFlags flat;
+#pragma omp for schedule(static)
+    for (long block = 0; block < blocks; ++block) {
+      const long first = block * kBlock;
+      block_frames(first, normal, tangent, bitangent, flat);
+      for (long j = 0; j < kBlock && first + j < count; ++j) {
+        const long s = first + j;
+        const auto c = coefficients_.col(s);
+        Eigen::Vector3d x = positions_.col(s);
+        if (flat[j])
+          x += c.matrix();
+        else
+          x += (c[0] * normal.col(j) + c[1] * tangent.col(j) + c[2] * bitangent.col(j)).matrix();
+        results_.col(s) = x;
+      }
+    }
+#pragma omp for schedule(static)
+    for (long i = 0; i < count; ++i) out.col(columns[static_cast<std::size_t>(i)]) = results_.col(slot_of_[static_cast<std::size_t>(i)]);
+  }
+}
+
+Eigen::Matrix3Xd NormalDetail::coefficients() const {
+  Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(count_));
+  for (std::size_t s = 0; s < count_; ++s) out.col(slots_[s]) = coefficients_.col(static_cast<Eigen::Index>(s)).matrix();
+  return out;
 }
 
 }  // namespace ffd

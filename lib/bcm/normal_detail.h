@@ -34,34 +34,63 @@ public:
   NormalDetail(const Eigen::Ref<const Eigen::Matrix3Xd>& base, const Eigen::Ref<const Eigen::Matrix3Xd>& detailed,
                std::size_t count, const std::vector<Triangle>& triangles);
 
-  std::size_t size() const { return reference_.size(); }
+  std::size_t size() const { return count_; }
 
   /// out.col(columns[i]) = base_i + α_i n_i + β_i t_i + γ_i (n_i × t_i) for i < size(),
-  /// with the frames of the moved `base` (3 × n). No allocation.
+  /// with the frames of the moved `base` (3 × n). No allocation; runs on all cores and
+  /// gives the same result whatever their number.
   void reconstruct(const Eigen::Ref<const Eigen::Matrix3Xd>& base, Eigen::Ref<Eigen::Matrix3Xd> out,
                    const std::vector<std::uint32_t>& columns) const;
+  /// The base as the detail holds it, one column per slot: a caller that moves the base
+  /// itself writes the moved positions here (column slot(v) for vertex v) and then calls
+  /// reconstruct_in_team(), saving reconstruct()'s copy of the whole base.
+  Eigen::Matrix3Xd& base_in_slots() const { return positions_; }
+  /// Vertex v's column in base_in_slots(), or UINT32_MAX where the detail does not read it.
+  std::uint32_t slot(std::uint32_t v) const { return v < slot_of_.size() ? slot_of_[v] : UINT32_MAX; }
+  /// reconstruct() from base_in_slots(), called by every thread of an enclosing OpenMP team
+  /// (they share the work).
+  void reconstruct_in_team(Eigen::Ref<Eigen::Matrix3Xd> out, const std::vector<std::uint32_t>& columns) const;
 
-  /// The stored coefficients (α normal, β tangent, γ bitangent), 3 × size().
-  Eigen::Matrix3Xd coefficients() const { return coefficients_.matrix(); }
+  /// The stored coefficients (α normal, β tangent, γ bitangent), 3 × size(), by vertex.
+  Eigen::Matrix3Xd coefficients() const;
 
 private:
   // Rows x, y, z of per-vertex vectors, so that the frame arithmetic runs on whole rows
   // (vectorized square roots and divisions).
   using Rows3 = Eigen::Array<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
 
-  // The frames at the base: normal_, tangent_, bitangent_ and degenerate_ (1 where the
+  // Numbers the vertices in slots: the detail vertices first, breadth first over their
+  // triangles (neighbours close together in memory, however the file ordered them), then
+  // the other vertices of their triangles. Fills slot_of_, triangles_ and incident_*.
+  void number_slots(std::size_t count, std::size_t n, const std::vector<Triangle>& triangles);
+  // Copies `base` into the slots.
+  void gather(const Eigen::Ref<const Eigen::Matrix3Xd>& base) const;
+  // The face normals from the slots.
+  void face_normals() const;
+  // The frames of detail slots first .. first + kBlock − 1 (past size(): padding),
+  // after gather(): normal, tangent and bitangent rows, and where they are degenerate (the
   // world axes stand in). The one routine for encoding and reconstructing, so that an
   // unchanged base reproduces the surface.
-  void frames(const Eigen::Ref<const Eigen::Matrix3Xd>& base) const;
+  static constexpr int kBlock = 128;  // detail slots per block of frame arithmetic (fits in L1)
+  using Block3 = Eigen::Array<double, 3, kBlock, Eigen::RowMajor>;
+  using BlockFlags = Eigen::Array<bool, 1, kBlock>;
+  void block_frames(long first, Block3& normal, Block3& tangent, Block3& bitangent, BlockFlags& flat) const;
+  // The reference neighbour of each detail slot (the longest part in the tangent plane,
+  // ties to the lowest vertex), fixed at encoding so that the frame turns with the surface
+  // instead of jumping between neighbours.
+  void choose_references(const Eigen::Ref<const Eigen::Matrix3Xd>& base);
 
-  std::vector<Triangle> triangles_;       // those with a detail vertex
-  std::vector<std::uint32_t> incident_offset_, incident_;  // triangles around each detail vertex
-  std::vector<std::uint32_t> reference_;  // tangent reference neighbour per vertex
-  Rows3 coefficients_;
+  std::size_t count_ = 0;
+  std::vector<std::uint32_t> slots_;      // slot -> local vertex
+  std::vector<std::uint32_t> slot_of_;    // vertex -> its slot (UINT32_MAX: none)
+  std::vector<Triangle> triangles_;       // those with a detail vertex, in slots
+  std::vector<std::uint32_t> incident_offset_, incident_;  // triangles around each detail slot
+  std::vector<std::uint32_t> reference_;  // tangent reference neighbour per detail slot, a slot
+  Rows3 coefficients_;                    // per detail slot
   // Scratch, sized once.
+  mutable Eigen::Matrix3Xd positions_;    // per slot
   mutable Eigen::Matrix3Xd face_normals_;
-  mutable Rows3 normal_, tangent_, bitangent_;
-  mutable Eigen::Array<bool, 1, Eigen::Dynamic> degenerate_;
+  mutable Eigen::Matrix3Xd results_;      // per detail slot
 };
 
 }  // namespace ffd
