@@ -154,18 +154,18 @@ Eigen::MatrixXd constrained_positions(const BcmData& data) {
   return x;
 }
 
-// Eq. 6 at the current poses: the base positions of the free vertices, written through
-// `write(i, x)`. Inside an OpenMP team the threads share the vertices; outside one it
-// runs alone.
+// Eq. 6 at the current poses for the free vertices whose weights are the columns of
+// `constant` and `basis`, written through `write(i, x)`. Inside an OpenMP team the threads
+// share the vertices; outside one it runs alone.
 template <class Write>
-void evaluate_basis(const BcmData& data, Write write) {
-  const long p_count = static_cast<long>(data.regions.free.size());
+void evaluate_basis(const BcmData& data, const Eigen::Matrix3Xd& constant, const Eigen::MatrixXd& basis, Write write) {
+  const long p_count = static_cast<long>(constant.cols());
   const Eigen::Index m = static_cast<Eigen::Index>(data.frame.size());
 #pragma omp for schedule(static)
   for (long i = 0; i < p_count; ++i) {
-    Eigen::Vector3d x = data.constant.col(i);
+    Eigen::Vector3d x = constant.col(i);
     for (Eigen::Index h = 0; h < m; ++h)
-      x.noalias() += data.frame[static_cast<std::size_t>(h)] * data.basis.block<4, 1>(4 * h, i);
+      x.noalias() += data.frame[static_cast<std::size_t>(h)] * basis.block<4, 1>(4 * h, i);
     write(i, x);
   }
 }
@@ -288,8 +288,18 @@ void bcm_detail(BcmData& data) {
   Eigen::Matrix3Xd surface = data.stencil_setup;
   surface.colwise() += data.origin;
   Eigen::Matrix3Xd base = surface;
-  evaluate_basis(data, [&](long i, const Eigen::Vector3d& x) { base.col(i) = x; });
+  evaluate_basis(data, data.constant, data.basis, [&](long i, const Eigen::Vector3d& x) { base.col(i) = x; });
   data.detail = NormalDetail(base, surface, data.stencil.num_free, data.stencil.triangles);
+  // The weights again in the detail's slot order, so that each frame writes its base
+  // straight along the detail's copy of it.
+  const Eigen::Index p = static_cast<Eigen::Index>(data.stencil.num_free);
+  data.slot_constant.resize(3, p);
+  data.slot_basis.resize(data.basis.rows(), p);
+  for (Eigen::Index i = 0; i < p; ++i) {
+    const Eigen::Index s = data.detail.slot(static_cast<std::uint32_t>(i));
+    data.slot_constant.col(s) = data.constant.col(i);
+    data.slot_basis.col(s) = data.basis.col(i);
+  }
 }
 
 BcmData bcm_precompute(const Mesh& mesh, const std::vector<std::uint32_t>& support,
@@ -334,9 +344,9 @@ void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions) {
     // With detail, the moved base goes straight into the detail's own copy of it.
     Eigen::Matrix3Xd& base = data.detail.base_in_slots();
     if (detail)
-      evaluate_basis(data, [&](long i, const Eigen::Vector3d& x) { base.col(data.detail.slot(static_cast<std::uint32_t>(i))) = x; });
+      evaluate_basis(data, data.slot_constant, data.slot_basis, [&](long s, const Eigen::Vector3d& x) { base.col(s) = x; });
     else
-      evaluate_basis(data, [&](long i, const Eigen::Vector3d& x) { positions.col(free[i]) = x; });
+      evaluate_basis(data, data.constant, data.basis, [&](long i, const Eigen::Vector3d& x) { positions.col(free[i]) = x; });
 #pragma omp single
     for (std::size_t h = 0; h < data.frame.size(); ++h) {
       const std::vector<std::uint32_t>& ids = data.regions.handles[h];

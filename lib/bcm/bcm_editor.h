@@ -82,8 +82,12 @@ struct BcmData {
   std::vector<std::vector<std::uint32_t>> handle_local;  // their stencil indices (UINT32_MAX outside)
   std::vector<Eigen::Matrix3d> linear;                   // current poses
   std::vector<Eigen::Vector3d> translation;
-  // Detail (section 4): it holds the base surface for the current poses.
+  // Detail (section 4): it holds the base surface for the current poses, and the basis
+  // comes again with its columns in the detail's slot order (free vertex i at
+  // detail.slot(i)).
   NormalDetail detail;
+  Eigen::Matrix3Xd slot_constant;
+  Eigen::MatrixXd slot_basis;
 };
 
 /// Phase 1, regions and rings: checks the options, splits the support into free and
