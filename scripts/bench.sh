@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs the benchmarks and writes bench_out/bench.json (also printed).
-# Usage: scripts/bench.sh [--suite ffd|remesh|bcm|all] [--quick]
+# Usage: scripts/bench.sh [--suite ffd|remesh|bcm|cholesky|all] [--quick]
 # The real meshes come from ../shared/meshes when present, else from Debian's
 # libcgal-demo package (downloaded once with apt-get download, unpacked into .cache/).
 set -euo pipefail

@@ -57,17 +57,22 @@ TEST(CotanLaplacian, RegularHexagonWeightsAndVoronoiArea) {
 }
 
 TEST(CotanLaplacian, ObtuseTriangleMixedAreasAndClampedWeight) {
-  // Angle at vertex 0 is 120°: its cotangent (−1/√3) would make edge 1–2 negative.
+  // Angle at vertex 0 is 120°: its cotangent (−1/√3) makes edge 1–2 negative.
   Eigen::Matrix3Xd p(3, 3);
   p << 0, 1, -0.5, 0, 0, std::sqrt(3.0) / 2, 0, 0, 0;
-  const Laplacian lap = cotan_laplacian(p, {{0, 1, 2}});
-  const double area = std::sqrt(3.0) / 4;
-  EXPECT_NEAR(lap.areas[0], area / 2, 1e-15);
-  EXPECT_NEAR(lap.areas[1], area / 4, 1e-15);
-  EXPECT_NEAR(lap.areas[2], area / 4, 1e-15);
-  EXPECT_EQ(lap.weights.coeff(1, 2), 0.0);  // clamped from −1/(2√3)
-  EXPECT_NEAR(lap.weights.coeff(0, 1), 0.5 / std::tan(M_PI / 6), 1e-14);
-  EXPECT_LT((lap.weights * Eigen::VectorXd::Ones(3)).cwiseAbs().maxCoeff(), 1e-15);
+  for (CotanWeights kind : {CotanWeights::Standard, CotanWeights::Positive}) {
+    const Laplacian lap = cotan_laplacian(p, {{0, 1, 2}}, kind);
+    const double area = std::sqrt(3.0) / 4;
+    EXPECT_NEAR(lap.areas[0], area / 2, 1e-15);
+    EXPECT_NEAR(lap.areas[1], area / 4, 1e-15);
+    EXPECT_NEAR(lap.areas[2], area / 4, 1e-15);
+    if (kind == CotanWeights::Positive)
+      EXPECT_EQ(lap.weights.coeff(1, 2), 0.0);  // clamped from −1/(2√3)
+    else
+      EXPECT_NEAR(lap.weights.coeff(1, 2), -0.5 / std::sqrt(3.0), 1e-15);  // eq. 4 as printed
+    EXPECT_NEAR(lap.weights.coeff(0, 1), 0.5 / std::tan(M_PI / 6), 1e-14);
+    EXPECT_LT((lap.weights * Eigen::VectorXd::Ones(3)).cwiseAbs().maxCoeff(), 1e-15);
+  }
 }
 
 TEST(CotanLaplacian, DegenerateTrianglesStayFinite) {
@@ -82,7 +87,8 @@ TEST(CotanLaplacian, DegenerateTrianglesStayFinite) {
 }
 
 TEST(CotanLaplacian, LinearPrecisionOnAPlanarMesh) {
-  // Any planar triangulation without negative weights: Σ w_ij (p_j − p_i) = 0 inside.
+  // Any planar triangulation (bcm_ground_truth_test has a non-Delaunay one):
+  // Σ w_ij (p_j − p_i) = 0 inside.
   const Mesh grid = test::grid_mesh(12, [](double x, double y) { return 0.3 * x - 0.7 * y; });
   const Laplacian lap = cotan_laplacian(grid.positions(), test::all_triangles(grid));
   const Eigen::MatrixXd lp = lap.weights * grid.positions().transpose();

@@ -2,6 +2,7 @@
 // ratio against a baseline measured in the same run, on the same machine.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -40,9 +41,19 @@ Mesh load(const Context& ctx, const std::string& name);
 /// (CGAL's Subdivision_method_3), with rest = current positions and fresh normals.
 Mesh subdivided(const Mesh& mesh, std::size_t min_vertices);
 
+/// The bcm suites' regions on a mesh: the support is the `support_size` vertices nearest
+/// to the vertex farthest from the centroid (a geodesic-like cap over most of the
+/// model), the handle the nearest `handle_size` of them; everything else is fixed.
+struct Regions {
+  std::vector<std::uint32_t> support, handle;  // sorted vertex indices
+  double diagonal = 0;                         // of the mesh's bounding box
+};
+Regions cap_regions(const Mesh& mesh, std::size_t support_size, std::size_t handle_size);
+
 // Suites (one file each).
 void bench_ffd(Context& ctx);
 void bench_remesh(Context& ctx);
 void bench_bcm(Context& ctx);
+void bench_cholesky(Context& ctx);
 
 }  // namespace ffd::bench

@@ -7,6 +7,8 @@ const std::vector<Suite>& suites() {
       {"ffd", "lattice FFD throughput against the straightforward triple sum", bench_ffd},
       {"remesh", "adaptive remeshing: error against the true surface, speed, memory", bench_remesh},
       {"bcm", "boundary-constraint modeling setup and per-frame cost against CGAL's fair", bench_bcm},
+      {"cholesky", "the bcm k = 3 numeric factorization: lib/bcm's supernodal Cholesky against CHOLMOD's with the system BLAS",
+       bench_cholesky},
   };
   return all;
 }

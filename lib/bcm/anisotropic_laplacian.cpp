@@ -118,7 +118,14 @@ Laplacian anisotropic_laplacian(const Eigen::Ref<const Eigen::Matrix3Xd>& positi
   std::uint32_t used = 0;
   for (const Triangle& t : triangles) used = std::max({used, t[0] + 1, t[1] + 1, t[2] + 1});
   const Eigen::Matrix3Xd map = equal_diameter_conformal_map(positions, domain);
-  return cotan_laplacian(map.leftCols(used), triangles);
+  // Standard weights, negative ones kept, as on the surface: the paper computes "the
+  // weights for the Laplace operator" of eq. 4 on the scaled triangulation. On a planar
+  // triangulation they have exact linear precision and −W is the stiffness matrix of a
+  // planar finite-element mesh (positive semidefinite), so the energy is the planar
+  // k-harmonic one the anisotropy correction is meant to give. Dropping them would cost
+  // the most here: the stretch along the minor axis turns right and acute triangles
+  // obtuse, making non-Delaunay edges common even where the surface had none.
+  return cotan_laplacian(map.leftCols(used), triangles, CotanWeights::Standard);
 }
 
 }  // namespace ffd

@@ -19,8 +19,9 @@ namespace ffd {
 Eigen::Matrix3Xd equal_diameter_conformal_map(const Eigen::Ref<const Eigen::Matrix3Xd>& positions,
                                               const std::vector<Triangle>& triangles);
 
-/// The weights the anisotropic energy uses in eq. 5: cotan_laplacian() of `triangles`
-/// placed on equal_diameter_conformal_map() of `domain` (the support with its handles and
+/// The weights the anisotropic energy uses in eq. 5: the standard cotan_laplacian()
+/// (negative weights kept) of `triangles` placed on equal_diameter_conformal_map() of
+/// `domain` (the support with its handles and
 /// rings, a disk), which must contain them. The result covers the vertices `triangles`
 /// use, which must come first (0 .. n−1, n the largest index in `triangles` plus one).
 /// Same preconditions and errors as equal_diameter_conformal_map().

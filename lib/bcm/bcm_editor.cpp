@@ -211,6 +211,8 @@ Laplacian bcm_operator(const BcmData& data, const Mesh& mesh) {
   switch (data.options.laplacian) {
     case LaplacianKind::Cotan:
       return cotan_laplacian(data.stencil_setup, data.stencil.triangles);
+    case LaplacianKind::CotanPositive:
+      return cotan_laplacian(data.stencil_setup, data.stencil.triangles, CotanWeights::Positive);
     case LaplacianKind::Uniform:
       return uniform_laplacian(data.stencil_setup.cols(), data.stencil.triangles);
     case LaplacianKind::Anisotropic:

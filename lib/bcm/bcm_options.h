@@ -8,9 +8,10 @@
 namespace ffd {
 
 enum class LaplacianKind {
-  Cotan,        // eq. 4: cotangent weights, mixed Voronoi areas, on the surface at setup
-  Uniform,      // 1/valence umbrella operator
-  Anisotropic,  // cotangent weights on the support's conformal map scaled to equal diameters
+  Cotan,          // eq. 4: cotangent weights (negative ones kept), mixed Voronoi areas, on the surface at setup
+  CotanPositive,  // the same with negative weights set to zero: a discrete maximum principle
+  Uniform,        // 1/valence umbrella operator
+  Anisotropic,    // cotangent weights on the support's conformal map scaled to equal diameters
 };
 
 struct BcmOptions {

@@ -9,12 +9,14 @@ namespace ffd {
 namespace {
 
 // Builds W from per-edge weights gathered as (i, j, w) with i != j, each edge possibly
-// several times (once per triangle); the diagonal makes every row sum to zero.
+// several times (once per triangle); the diagonal makes every row sum to zero. With
+// `drop_negative`, an edge whose summed weight is negative gets weight zero (its entry
+// stays, as an explicit zero, so both variants have the same sparsity).
 Eigen::SparseMatrix<double> assemble(Eigen::Index n, std::vector<Eigen::Triplet<double>>& edges,
-                                     bool clamp_negative) {
+                                     bool drop_negative) {
   Eigen::SparseMatrix<double> offdiag(n, n);
   offdiag.setFromTriplets(edges.begin(), edges.end());  // sums the triangles' shares
-  if (clamp_negative)
+  if (drop_negative)
     for (Eigen::Index c = 0; c < offdiag.outerSize(); ++c)
       for (Eigen::SparseMatrix<double>::InnerIterator it(offdiag, c); it; ++it) it.valueRef() = std::max(it.value(), 0.0);
   Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(n);
@@ -34,7 +36,8 @@ Eigen::SparseMatrix<double> assemble(Eigen::Index n, std::vector<Eigen::Triplet<
 
 }  // namespace
 
-Laplacian cotan_laplacian(const Eigen::Ref<const Eigen::Matrix3Xd>& positions, const std::vector<Triangle>& triangles) {
+Laplacian cotan_laplacian(const Eigen::Ref<const Eigen::Matrix3Xd>& positions, const std::vector<Triangle>& triangles,
+                          CotanWeights weights) {
   const Eigen::Index n = positions.cols();
   std::vector<Eigen::Triplet<double>> edges;
   edges.reserve(triangles.size() * 6);
@@ -49,8 +52,8 @@ Laplacian cotan_laplacian(const Eigen::Ref<const Eigen::Matrix3Xd>& positions, c
       const Eigen::Vector3d u = p[(c + 1) % 3] - p[c], v = p[(c + 2) % 3] - p[c];
       dot[c] = u.dot(v);
       const double sine = u.cross(v).norm();
-      // cot = cos/sin, clamped so a needle or a cap adds at most cot(1°) (CGAL's "secure"
-      // cotangent, pmp's clamp): W stays well scaled and k = 3 stays sane.
+      // cot = cos/sin, clamped only at near-degenerate corners (below 1° or above 179°,
+      // see kMaxCotangent); every other corner gets its exact cotangent.
       cot[c] = sine > std::abs(dot[c]) / kMaxCotangent ? dot[c] / sine : (dot[c] >= 0 ? kMaxCotangent : -kMaxCotangent);
       used[t[c]] = 1;
     }
@@ -88,11 +91,12 @@ Laplacian cotan_laplacian(const Eigen::Ref<const Eigen::Matrix3Xd>& positions, c
     }
   const double floor = counted && total > 0 ? 1e-12 * total / static_cast<double>(counted) : 1.0;
   for (Eigen::Index v = 0; v < n; ++v) area[v] = used[v] ? std::max(area[v], floor) : 1.0;
-  // Negative edge weights (non-Delaunay edges) are set to zero: W stays a graph Laplacian,
-  // the membrane keeps a maximum principle and every symmetric system below stays
-  // positive definite. Planar meshes with Delaunay edges (the test grids) keep exact
-  // linear precision.
-  return {assemble(n, edges, true), area};
+  // Standard: eq. 4 as printed, negative weights (non-Delaunay edges) kept. −W is the
+  // linear finite-element stiffness matrix, positive semidefinite on any triangulation,
+  // so the systems built from it stay positive definite, and on a planar mesh W has
+  // exact linear precision (Σ_j W_ij (p_j − p_i) = 0 inside), Delaunay or not.
+  // Positive: negative weights set to zero, a graph Laplacian with a maximum principle.
+  return {assemble(n, edges, weights == CotanWeights::Positive), area};
 }
 
 Laplacian uniform_laplacian(Eigen::Index n, const std::vector<Triangle>& triangles) {

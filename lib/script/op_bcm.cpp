@@ -11,8 +11,10 @@
 namespace ffd {
 namespace {
 
-const std::vector<std::pair<std::string, LaplacianKind>> kLaplacians = {
-    {"cotan", LaplacianKind::Cotan}, {"uniform", LaplacianKind::Uniform}, {"anisotropic", LaplacianKind::Anisotropic}};
+const std::vector<std::pair<std::string, LaplacianKind>> kLaplacians = {{"cotan", LaplacianKind::Cotan},
+                                                                       {"cotan_positive", LaplacianKind::CotanPositive},
+                                                                       {"uniform", LaplacianKind::Uniform},
+                                                                       {"anisotropic", LaplacianKind::Anisotropic}};
 
 struct HandleSpec {
   std::string name;
@@ -72,9 +74,14 @@ KeyTable<BcmStep> bcm_keys() {
              [](auto& s) -> auto& { return s.options.inner_continuity; })
           .about("inner_continuity"),
       enum_key<S>("/laplacian", kLaplacians, "cotan",
-                  "cotan: cotangent weights with mixed Voronoi areas on the surface at setup. uniform: 1/valence. "
-                  "anisotropic: cotangent weights on the support's conformal map scaled to equal diameters, so an "
-                  "elongated support bends with even slope (needs a disk-shaped support).",
+                  "cotan: the paper's operator (eq. 4), cotangent weights with mixed Voronoi areas on the surface "
+                  "at setup, negative weights of non-Delaunay edges kept; the same operator as CGAL's fair and "
+                  "libigl's harmonic. cotan_positive: the same with negative weights set to zero, a graph Laplacian "
+                  "with a discrete maximum principle (for k = 1 each free vertex stays in the convex hull of its "
+                  "neighbours), at the cost of the paper's energy and of linear precision on non-Delaunay "
+                  "triangles. uniform: 1/valence. anisotropic: standard cotangent weights on the support's conformal "
+                  "map scaled to equal diameters, so an elongated support bends with even slope (needs a "
+                  "disk-shaped support).",
                   [](auto& s) -> auto& { return s.options.laplacian; })
           .about("laplacian"),
       key<S>("/detail", schema_boolean(), true,
