@@ -49,9 +49,9 @@ InputError singular(const BcmOptions& options) {
                       "singular: the map is too distorted (the support is far from developable, "
                       "e.g. most of a closed surface); use \"cotan\" or a smaller support",
                       {"laplacian"});
-  return InputError("the k-harmonic system of this support is singular: degenerate (zero-area) "
-                    "triangles or zero cotangent weights cut part of it off from its boundary "
-                    "(try \"laplacian\": \"uniform\")",
+  return InputError("the k-harmonic system of this support is singular: degenerate (zero-area or "
+                    "needle) triangles, whose cotangents are clamped, make it indefinite or cut part "
+                    "of it off from its boundary (try \"laplacian\": \"uniform\")",
                     {"support"});
 }
 

@@ -98,8 +98,8 @@ struct BcmData {
 void bcm_regions_and_rings(BcmData& data, const Mesh& mesh, const std::vector<std::uint32_t>& support,
                            const std::vector<BcmHandle>& handles, const BcmOptions& options);
 
-/// Phase 2, the operator: eq. 4's Laplacian on the stencil at setup (cotan, uniform, or
-/// anisotropic on the support's conformal map). \throw TopologyError about "handles" (a
+/// Phase 2, the operator: eq. 4's Laplacian on the stencil at setup (cotan, cotan_positive,
+/// uniform, or anisotropic on the support's conformal map). \throw TopologyError about "handles" (a
 /// handle face that is not a triangle) or "laplacian" (the support is not a disk).
 Laplacian bcm_operator(const BcmData& data, const Mesh& mesh);
 
