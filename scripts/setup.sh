@@ -8,7 +8,8 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libcgal-dev libeigen3-dev libsuitesparse-dev
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev
-  libgtest-dev libgmock-dev
+  libgtest-dev libgmock-dev libssl-dev
+  libcgal-demo
   python3
 )
 

@@ -4,8 +4,11 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
+#include "batch/batch.h"
+#include "batch/batch_report.h"
 #include "common/errors.h"
 #include "common/numbers.h"
 #include "mesh/mesh_compare.h"
@@ -135,9 +138,62 @@ struct Commands {
   std::string validate_path;
   bool resolved = false;
   bool markdown = false;
+  ffd::BatchOptions batch;
+  std::string shard, max_memory;
+  std::string report_folder;
+  bool report_json = false;
   CLI::App *run_cmd = nullptr, *compare_cmd = nullptr, *info_cmd = nullptr, *validate_cmd = nullptr,
-           *schema_cmd = nullptr;
+           *schema_cmd = nullptr, *batch_cmd = nullptr, *report_cmd = nullptr;
 };
+
+void add_batch(CLI::App& app, Commands& c) {
+  ffd::BatchOptions& b = c.batch;
+  c.batch_cmd = app.add_subcommand("batch", "Run a script on many meshes (each in a process of its own)");
+  c.batch_cmd->add_option("script", b.script, "JSON deformation script")->required();
+  c.batch_cmd->add_option("inputs", b.inputs, "Mesh files, folders or @list.txt files")->required();
+  c.batch_cmd->add_option("-o,--output", b.output_folder, "Output folder: OUT/name.ext, saves in OUT/name/")->required();
+  c.batch_cmd->add_option("--jobs", b.jobs, "Meshes at once (default: one per core)")->check(CLI::PositiveNumber);
+  c.batch_cmd->add_option("--shard", c.shard, "I/N: only items whose index is I mod N (default: from SLURM_ARRAY_TASK_ID)");
+  c.batch_cmd->add_flag("--resume", b.resume, "Skip meshes done before with the same input and script");
+  c.batch_cmd->add_option("--format", b.format, "Output extension (obj, off, ply, stl; default: the input's)");
+  c.batch_cmd->add_flag("--recursive", b.recursive, "Take meshes from the folders' subfolders too");
+  c.batch_cmd->add_option("--timeout", b.timeout_s, "Seconds per mesh; past it the mesh fails")->check(CLI::PositiveNumber);
+  c.batch_cmd->add_option("--max-memory", c.max_memory, "Memory per mesh (bytes, or with K, M, G); past it the mesh fails");
+  c.report_cmd = app.add_subcommand("report", "Summarize a batch's results files");
+  c.report_cmd->add_option("folder", c.report_folder, "The batch's output folder")->required();
+  c.report_cmd->add_flag("--json", c.report_json, "Print as JSON");
+}
+
+// "512M" -> bytes. \throw InputError for anything else.
+std::size_t parse_bytes(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  const std::string unit = text.substr(used);
+  const double scale = unit.empty() ? 1 : unit == "K" ? 1024.0 : unit == "M" ? 1048576.0 : unit == "G" ? 1073741824.0 : -1;
+  if (used == 0 || scale < 0 || !(value > 0)) throw ffd::InputError("--max-memory: expected bytes, or a number with K, M or G, found '" + text + "'");
+  return static_cast<std::size_t>(value * scale);
+}
+
+int command_batch(Commands& c) {
+  if (!c.shard.empty()) c.batch.shard = ffd::parse_shard(c.shard);
+  if (!c.max_memory.empty()) c.batch.max_memory = parse_bytes(c.max_memory);
+  if (const char* runner = std::getenv("FFD_BATCH_RUNNER")) c.batch.runner = runner;  // a seam for tests
+  return ffd::run_batch(c.batch);
+}
+
+int command_report(const std::string& folder, bool as_json) {
+  const ffd::BatchReport report = ffd::batch_report(folder);
+  if (as_json)
+    std::cout << ffd::report_json(report).dump(2) << "\n";
+  else
+    std::cout << ffd::report_text(report);
+  return 0;
+}
 
 void add_run(CLI::App& app, Commands& c) {
   ffd::RunOptions& run = c.run;
@@ -146,6 +202,7 @@ void add_run(CLI::App& app, Commands& c) {
   c.run_cmd->add_option("script", run.script, "JSON deformation script")->required();
   c.run_cmd->add_option("-o,--output", run.output, "Output mesh; its folder receives the script's saves")->required();
   c.run_cmd->add_option("--stats", run.stats, "Write the stats report (JSON) here");
+  c.run_cmd->add_option("--save-dir", run.save_folder, "Folder the script's save paths are relative to (default: OUT's)");
   c.run_cmd->add_flag("--quiet", run.quiet, "No per-step lines on stderr");
   c.run_cmd->add_option("--threads", run.threads, "Threads for evaluation (default: all cores)")
       ->check(CLI::NonNegativeNumber);
@@ -176,7 +233,9 @@ void add_script_commands(CLI::App& app, Commands& c) {
 }
 
 // Runs the chosen subcommand; returns its exit code.
-int dispatch(const Commands& c) {
+int dispatch(Commands& c) {
+  if (*c.batch_cmd) return command_batch(c);
+  if (*c.report_cmd) return command_report(c.report_folder, c.report_json);
   if (*c.run_cmd) {
     ffd::run_script(c.run);
     return 0;
@@ -201,6 +260,7 @@ int main(int argc, char** argv) {
   add_run(app, commands);
   add_compare(app, commands);
   add_script_commands(app, commands);
+  add_batch(app, commands);
 
   try {
     app.parse(argc, argv);

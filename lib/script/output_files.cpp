@@ -8,7 +8,11 @@
 namespace ffd {
 
 std::size_t stage_mesh(Scene& scene, const std::string& relative, const WriteOptions& options) {
-  const std::filesystem::path target = std::filesystem::path(scene.output_folder) / relative;
+  return stage_mesh_at(scene, (std::filesystem::path(scene.output_folder) / relative).string(), options);
+}
+
+std::size_t stage_mesh_at(Scene& scene, const std::string& path, const WriteOptions& options) {
+  const std::filesystem::path target(path);
   const MeshFormat format = mesh_format(target);
   StagedFile staged(target);
   std::ofstream os(staged.temp_path(), std::ios::binary | std::ios::trunc);

@@ -13,6 +13,8 @@ namespace ffd {
 /// file committed at the end of the run, with `options` (Scene::write_options() and any
 /// replacement colours); returns the bytes written. \throw IoError on a failed write.
 std::size_t stage_mesh(Scene& scene, const std::string& relative, const WriteOptions& options);
+/// The same at `target` itself (a path, not relative to the output folder).
+std::size_t stage_mesh_at(Scene& scene, const std::string& target, const WriteOptions& options);
 /// The same with the scene's own write options.
 inline std::size_t stage_mesh(Scene& scene, const std::string& relative) {
   return stage_mesh(scene, relative, scene.write_options());

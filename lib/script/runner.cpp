@@ -129,7 +129,8 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const Script script = load_script(options.script);
   Scene scene;
-  scene.output_folder = fs::path(options.output).parent_path().string();
+  scene.output_folder =
+      options.save_folder.empty() ? fs::path(options.output).parent_path().string() : options.save_folder;
   if (scene.output_folder.empty()) scene.output_folder = ".";
   check_outputs(options, script, scene.output_folder);
 
@@ -146,7 +147,7 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
   stats["steps"] = run_steps(script, scene, options.quiet);
 
   Stopwatch write_clock;
-  stage_mesh(scene, fs::path(options.output).filename().string());
+  stage_mesh_at(scene, options.output, scene.write_options());
   const double write_ms = write_clock.ms();
   double steps_ms = 0;
   for (const auto& s : stats["steps"]) steps_ms += s["ms"].get<double>();

@@ -11,6 +11,7 @@ struct RunOptions {
   std::string mesh;    // input mesh file
   std::string script;  // JSON script
   std::string output;  // final mesh file; its folder is the output folder for `save`
+  std::string save_folder;  // where `save` paths are relative to, if not the output's folder
   std::string stats;   // stats JSON file, or empty
   bool quiet = false;  // no per-step lines on stderr
   int threads = 0;     // 0: OpenMP's default

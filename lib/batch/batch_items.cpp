@@ -1,0 +1,141 @@
+#include "batch/batch_items.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "common/errors.h"
+#include "common/numbers.h"
+#include "mesh/mesh_io.h"
+
+namespace ffd {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool has_mesh_extension(const fs::path& path) {
+  try {
+    mesh_format(path);
+    return true;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
+// The mesh files of a folder (and its subfolders with `recursive`).
+void folder_meshes(const fs::path& folder, bool recursive, std::vector<std::string>& out) {
+  std::error_code ec;
+  const auto add = [&](const fs::directory_entry& entry) {
+    if (entry.is_regular_file(ec) && has_mesh_extension(entry.path())) out.push_back(entry.path().string());
+  };
+  if (recursive)
+    for (const auto& entry : fs::recursive_directory_iterator(folder, ec)) add(entry);
+  else
+    for (const auto& entry : fs::directory_iterator(folder, ec)) add(entry);
+  if (ec) throw InputError(At{folder.string()}, "cannot list the folder: " + ec.message());
+}
+
+// One INPUT argument's mesh files.
+void expand_input(const std::string& input, bool recursive, std::vector<std::string>& out) {
+  if (!input.empty() && input[0] == '@') {
+    const std::string list = input.substr(1);
+    std::ifstream is(list);
+    if (!is) throw InputError(At{list}, "cannot read the list of meshes");
+    std::string line;
+    for (std::size_t number = 1; std::getline(is, line); ++number) {
+      while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
+      if (line.empty() || line[0] == '#') continue;
+      if (!fs::is_regular_file(line)) throw InputError(At{list + ":" + std::to_string(number)}, "no such mesh file '" + line + "'");
+      out.push_back(line);
+    }
+    return;
+  }
+  std::error_code ec;
+  if (fs::is_directory(input, ec)) return folder_meshes(input, recursive, out);
+  if (!fs::is_regular_file(input, ec)) throw InputError(At{input}, "no such file or folder");
+  out.push_back(input);
+}
+
+}  // namespace
+
+std::vector<BatchItem> batch_items(const std::vector<std::string>& inputs, bool recursive,
+                                   const std::string& output_folder, const std::string& format) {
+  std::vector<std::string> files;
+  for (const std::string& input : inputs) expand_input(input, recursive, files);
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw InputError("no mesh file among the inputs");
+  std::map<std::string, std::string> by_name;
+  std::vector<BatchItem> items;
+  for (const std::string& file : files) {
+    mesh_format(file);  // names the file when its extension is not a mesh format
+    BatchItem item;
+    item.index = items.size();
+    item.input = file;
+    item.name = fs::path(file).stem().string();
+    const auto [seen, fresh] = by_name.emplace(item.name, file);
+    if (!fresh) throw InputError(At{file}, "has the same name as " + seen->second + ", so both would be written to one output");
+    const std::string extension = format.empty() ? fs::path(file).extension().string() : "." + format;
+    item.output = (fs::path(output_folder) / (item.name + extension)).string();
+    item.save_folder = (fs::path(output_folder) / item.name).string();
+    std::error_code ec;
+    if (fs::exists(item.output, ec) && fs::equivalent(item.output, file, ec))
+      throw InputError(At{file}, "its output " + item.output + " would overwrite it");
+    mesh_format(item.output);
+    items.push_back(item);
+  }
+  return items;
+}
+
+Shard parse_shard(const std::string& text) {
+  const std::size_t slash = text.find('/');
+  long long index = -1, count = -1;
+  if (slash == std::string::npos || !parse_integer(text.substr(0, slash), index) ||
+      !parse_integer(text.substr(slash + 1), count) || count < 1 || index < 0 || index >= count)
+    throw InputError("--shard: expected I/N with 0 <= I < N, found '" + text + "'");
+  return {static_cast<std::size_t>(index), static_cast<std::size_t>(count), "--shard"};
+}
+
+namespace {
+
+// An environment variable as a non-negative integer, or -1 when unset.
+long long environment_integer(const char* name) {
+  const char* value = std::getenv(name);
+  if (!value || !*value) return -1;
+  long long v = -1;
+  if (!parse_integer(value, v) || v < 0) throw InputError(std::string(name) + ": expected a non-negative integer, found '" + value + "'");
+  return v;
+}
+
+}  // namespace
+
+std::optional<Shard> shard_from_environment() {
+  const long long id = environment_integer("SLURM_ARRAY_TASK_ID");
+  if (id >= 0) {
+    const long long count = environment_integer("SLURM_ARRAY_TASK_COUNT");
+    const long long first = std::max(0LL, environment_integer("SLURM_ARRAY_TASK_MIN"));
+    const long long step = std::max(1LL, environment_integer("SLURM_ARRAY_TASK_STEP"));
+    const long long index = (id - first) / step;
+    if (count < 1 || index < 0 || index >= count)
+      throw InputError("SLURM_ARRAY_TASK_ID " + std::to_string(id) + " is not a task of an array of " +
+                       std::to_string(count) + " (SLURM_ARRAY_TASK_COUNT)");
+    return Shard{static_cast<std::size_t>(index), static_cast<std::size_t>(count), "SLURM_ARRAY_TASK_ID"};
+  }
+  const long long completion = environment_integer("JOB_COMPLETION_INDEX");
+  if (completion < 0) return std::nullopt;
+  const long long count = environment_integer("FFD_SHARD_COUNT");
+  if (count < 1 || completion >= count)
+    throw InputError("JOB_COMPLETION_INDEX " + std::to_string(completion) +
+                     " needs FFD_SHARD_COUNT, the Indexed Job's completions, above it");
+  return Shard{static_cast<std::size_t>(completion), static_cast<std::size_t>(count), "JOB_COMPLETION_INDEX"};
+}
+
+std::vector<BatchItem> shard_items(const std::vector<BatchItem>& all, const Shard& shard) {
+  std::vector<BatchItem> out;
+  for (const BatchItem& item : all)
+    if (item.index % shard.count == shard.index) out.push_back(item);
+  return out;
+}
+
+}  // namespace ffd

@@ -1,0 +1,47 @@
+// The items of a batch: which meshes, in which order, written where, and which of them
+// this shard takes (DESIGN.md "Scale-out").
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ffd {
+
+/// One mesh of a batch.
+struct BatchItem {
+  std::size_t index = 0;    // position in the sorted list of all items
+  std::string input;        // the mesh file, as found
+  std::string name;         // its stem
+  std::string output;       // OUTDIR/name.ext
+  std::string save_folder;  // OUTDIR/name: the script's save paths are relative to it
+};
+
+/// The meshes the INPUT arguments name: files, folders (their files with a mesh
+/// extension; with `recursive`, their subfolders' too) and @lists (one path a line, as
+/// written: relative to the working folder), sorted by path, each written to
+/// `output_folder`/name.ext (`format`: the extension, or "" to keep the input's).
+/// \throw InputError for a missing input, a file without a mesh extension, two inputs
+/// with the same stem, an output that would overwrite an input, or no mesh at all.
+std::vector<BatchItem> batch_items(const std::vector<std::string>& inputs, bool recursive,
+                                   const std::string& output_folder, const std::string& format);
+
+/// Shard `index` of `count`: the items whose index ≡ index (mod count).
+struct Shard {
+  std::size_t index = 0, count = 1;
+  std::string source;  // "--shard", "SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"
+};
+
+/// "I/N" with 0 <= I < N. \throw InputError otherwise.
+Shard parse_shard(const std::string& text);
+
+/// The shard a Slurm job array task (SLURM_ARRAY_TASK_ID, _MIN, _STEP, _COUNT) or a
+/// Kubernetes Indexed Job (JOB_COMPLETION_INDEX with FFD_SHARD_COUNT) is, if either.
+/// \throw InputError for values that are not a shard.
+std::optional<Shard> shard_from_environment();
+
+/// The items of `all` in `shard`.
+std::vector<BatchItem> shard_items(const std::vector<BatchItem>& all, const Shard& shard);
+
+}  // namespace ffd

@@ -1,0 +1,279 @@
+#include "batch/batch.h"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "batch/child_process.h"
+#include "batch/results_log.h"
+#include "batch/sha256.h"
+#include "common/errors.h"
+#include "common/numbers.h"
+#include "common/timer.h"
+#include "script/script.h"
+
+namespace ffd {
+namespace fs = std::filesystem;
+
+namespace {
+
+// What a batch will do, worked out before any item runs.
+struct Plan {
+  BatchOptions options;
+  std::string script_sha;
+  std::vector<std::string> saves;  // the script's outputs, relative to an item's save folder
+  std::size_t total = 0;           // items of all shards
+  std::optional<Shard> shard;
+  std::vector<BatchItem> items;    // this shard's
+  std::size_t jobs = 1, threads = 1;
+  std::string program;             // what runs an item
+  std::string temp;                // the children's stats and stderr
+};
+
+Plan plan_batch(const BatchOptions& options) {
+  Plan plan;
+  plan.options = options;
+  const Script script = load_script(options.script);  // a bad script fails before any work
+  for (const auto& step : script.steps)
+    for (const OutputFile& file : step->outputs()) plan.saves.push_back(file.path);
+  std::error_code ec;
+  fs::create_directories(options.output_folder, ec);
+  if (!fs::is_directory(options.output_folder, ec))
+    throw InputError(At{options.output_folder}, "cannot create the output folder");
+  const std::vector<BatchItem> all = batch_items(options.inputs, options.recursive, options.output_folder, options.format);
+  plan.total = all.size();
+  plan.shard = options.shard ? options.shard : shard_from_environment();
+  plan.items = plan.shard ? shard_items(all, *plan.shard) : all;
+  const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  plan.jobs = options.jobs ? options.jobs : cores;
+  const std::size_t running = std::max<std::size_t>(1, std::min(plan.jobs, plan.items.size()));
+  plan.threads = std::max<std::size_t>(1, cores / running);  // the cores shared by the meshes at once
+  plan.program = options.runner.empty() ? "/proc/self/exe" : options.runner;
+  plan.script_sha = sha256_file(options.script);
+  return plan;
+}
+
+// The message of an item's "ffdtool: error: ..." line, or what else ended it.
+std::string error_message(const std::string& stderr_path, const ChildEnd& end) {
+  if (!end.reason.empty()) return end.reason;
+  std::ifstream is(stderr_path);
+  std::string line, message;
+  const std::string prefix = "ffdtool: error: ";
+  while (std::getline(is, line))
+    if (line.rfind(prefix, 0) == 0) message = line.substr(prefix.size());
+  return message.empty() ? "exited with code " + std::to_string(end.exit) : message;
+}
+
+// The results line of a finished item.
+ResultRecord record_of(const Plan& plan, const BatchItem& item, const ChildEnd& end, double ms,
+                       const std::string& stats_path, const std::string& stderr_path) {
+  ResultRecord r;
+  r["input"] = item.input;
+  r["output"] = item.output;
+  r["status"] = end.exit == 0 ? "ok" : "error";
+  r["exit"] = end.exit;
+  r["error"] = end.exit == 0 ? "" : error_message(stderr_path, end);
+  r["ms"] = ms;
+  r["stats"] = nullptr;
+  if (end.exit == 0) {
+    std::ifstream is(stats_path);
+    const ResultRecord stats = ResultRecord::parse(is, nullptr, false);
+    if (!stats.is_discarded() && stats.contains("steps")) r["stats"] = stats["steps"];
+  }
+  r["sha256"] = {{"input", sha256_file(item.input)},
+                 {"script", plan.script_sha},
+                 {"output", end.exit == 0 ? ResultRecord(sha256_file(item.output)) : ResultRecord()}};
+  return r;
+}
+
+// Removes what a failed item left: the staged temporary files of a child killed in the
+// middle of a write, and the save folders made for it that stayed empty.
+void remove_leftovers(const BatchItem& item, pid_t pid) {
+  const std::string mark = ".ffdtool-" + std::to_string(pid) + "-";
+  std::error_code ec;
+  const auto clean = [&](const fs::path& entry) {
+    const std::string name = entry.filename().string();
+    if (name.find(mark) != std::string::npos && entry.extension() == ".tmp") fs::remove(entry, ec);
+  };
+  for (const auto& entry : fs::directory_iterator(fs::path(item.output).parent_path(), ec)) clean(entry.path());
+  if (!fs::is_directory(item.save_folder, ec)) return;
+  std::vector<fs::path> folders = {item.save_folder};
+  for (const auto& entry : fs::recursive_directory_iterator(item.save_folder, ec)) {
+    clean(entry.path());
+    if (entry.is_directory(ec)) folders.push_back(entry.path());
+  }
+  // The folders made for its saves, if they stayed empty: deepest first.
+  std::sort(folders.begin(), folders.end(), [](const fs::path& a, const fs::path& b) { return a.string() > b.string(); });
+  for (const fs::path& folder : folders)
+    if (fs::is_empty(folder, ec)) fs::remove(folder, ec);
+}
+
+// Whether a record from an earlier batch says `item` is done with this input and script.
+bool done_before(const Plan& plan, const BatchItem& item, const std::map<std::string, ResultRecord>& earlier) {
+  const auto it = earlier.find(item.input);
+  if (it == earlier.end()) return false;
+  const ResultRecord& r = it->second;
+  const std::string status = r.value("status", "");
+  std::error_code ec;
+  if ((status != "ok" && status != "skipped") || !fs::is_regular_file(item.output, ec) || !r.contains("sha256"))
+    return false;
+  const ResultRecord& sha = r["sha256"];
+  return sha.value("script", "") == plan.script_sha && sha.value("input", "") == sha256_file(item.input) &&
+         sha["output"].is_string() && sha["output"] == sha256_file(item.output);
+}
+
+}  // namespace
+
+namespace {
+
+// An item whose process runs.
+struct Running {
+  BatchItem item;
+  Child child;
+  std::string stats_path, stderr_path;
+};
+
+// The items' processes, at most plan.jobs at once, and their results as they finish.
+class ItemPool {
+public:
+  ItemPool(const Plan& plan, ResultsLog& log) : plan_(plan), log_(log) {}
+
+  void start(const BatchItem& item) {
+    std::error_code ec;
+    for (const std::string& save : plan_.saves)
+      fs::create_directories((fs::path(item.save_folder) / save).parent_path(), ec);
+    Running r;
+    r.item = item;
+    r.stats_path = plan_.temp + "/" + std::to_string(item.index) + ".stats.json";
+    r.stderr_path = plan_.temp + "/" + std::to_string(item.index) + ".stderr";
+    std::vector<std::string> args = {"run", item.input, plan_.options.script, "-o", item.output,
+                                     "--stats", r.stats_path, "--quiet", "--threads", std::to_string(plan_.threads)};
+    if (!plan_.saves.empty()) args.insert(args.end(), {"--save-dir", item.save_folder});
+    r.child = start_child(plan_.program, args, r.stderr_path, plan_.options.max_memory);
+    running_.push_back(std::move(r));
+  }
+
+  bool full() const { return running_.size() >= plan_.jobs; }
+  bool empty() const { return running_.empty(); }
+
+  /// Collects every item that ended (killing those past the timeout); false if none did.
+  bool reap() {
+    bool any = false;
+    for (std::size_t i = 0; i < running_.size();) {
+      int status = 0;
+      bool timed_out = false;
+      pid_t done = ::waitpid(running_[i].child.pid, &status, WNOHANG);
+      if (done == 0 && plan_.options.timeout_s > 0 && seconds(running_[i]) > plan_.options.timeout_s) {
+        ::kill(running_[i].child.pid, SIGKILL);
+        done = ::waitpid(running_[i].child.pid, &status, 0);
+        timed_out = true;
+      }
+      if (done == 0) {
+        ++i;
+        continue;
+      }
+      finish(running_[i], child_end(status, timed_out, plan_.options.timeout_s));
+      running_.erase(running_.begin() + static_cast<long>(i));
+      any = true;
+    }
+    return any;
+  }
+
+  int worst = 0;
+  std::size_t ok = 0, failed = 0;
+
+private:
+  static double seconds(const Running& r) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - r.child.started).count();
+  }
+
+  void finish(const Running& r, const ChildEnd& end) {
+    const double ms = 1000 * seconds(r);
+    if (end.exit != 0) remove_leftovers(r.item, r.child.pid);
+    const ResultRecord record = record_of(plan_, r.item, end, ms, r.stats_path, r.stderr_path);
+    log_.append(record);
+    worst = std::max(worst, end.exit);
+    if (end.exit == 0) {
+      ++ok;
+    } else {
+      ++failed;
+      const std::string message = record["error"].get<std::string>();
+      const bool placed = message.find(r.item.input) != std::string::npos;
+      std::fprintf(stderr, "ffdtool: error: %s%s\n", placed ? "" : (r.item.input + ": ").c_str(), message.c_str());
+    }
+  }
+
+  const Plan& plan_;
+  ResultsLog& log_;
+  std::vector<Running> running_;
+};
+
+// The header line: what this process is doing.
+void announce(const Plan& plan, std::size_t skipped) {
+  std::string shard;
+  if (plan.shard)
+    shard = ", shard " + std::to_string(plan.shard->index) + "/" + std::to_string(plan.shard->count) + " (" +
+            plan.shard->source + ")";
+  std::fprintf(stderr, "ffdtool batch: %s meshes%s: %s here (%s done before), %zu at once x %zu threads\n",
+               format_count(plan.total).c_str(), shard.c_str(), format_count(plan.items.size()).c_str(),
+               format_count(skipped).c_str(), plan.jobs, plan.threads);
+}
+
+// Records of earlier batches by input, for --resume.
+std::map<std::string, ResultRecord> earlier_records(const Plan& plan) {
+  std::map<std::string, ResultRecord> out;
+  if (!plan.options.resume) return out;
+  for (ResultRecord& r : read_results(plan.options.output_folder)) {
+    const std::string input = r["input"].get<std::string>();
+    out[input] = std::move(r);
+  }
+  return out;
+}
+
+}  // namespace
+
+int run_batch(const BatchOptions& options) {
+  Stopwatch clock;
+  Plan plan = plan_batch(options);
+  const std::map<std::string, ResultRecord> earlier = earlier_records(plan);
+  std::vector<BatchItem> todo;
+  std::vector<ResultRecord> skipped;
+  for (const BatchItem& item : plan.items) {
+    if (!done_before(plan, item, earlier)) {
+      todo.push_back(item);
+      continue;
+    }
+    ResultRecord r = earlier.at(item.input);
+    r["status"] = "skipped";
+    r["ms"] = 0;
+    skipped.push_back(std::move(r));
+  }
+  announce(plan, skipped.size());
+  const bool sharded = plan.shard.has_value();
+  ResultsLog log((fs::path(options.output_folder) /
+                  results_file_name(sharded, sharded ? plan.shard->index : 0, sharded ? plan.shard->count : 1))
+                     .string());
+  for (const ResultRecord& r : skipped) log.append(r);
+  plan.temp = (fs::path(options.output_folder) / (".ffdtool-batch-" + std::to_string(::getpid()))).string();
+  fs::create_directories(plan.temp);
+  ItemPool pool(plan, log);
+  for (std::size_t next = 0; next < todo.size() || !pool.empty();) {
+    while (!pool.full() && next < todo.size()) pool.start(todo[next++]);
+    if (!pool.reap()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  std::error_code ec;
+  fs::remove_all(plan.temp, ec);
+  std::fprintf(stderr, "ffdtool batch: %zu ok, %zu failed, %zu skipped in %.1f s; results in %s\n", pool.ok,
+               pool.failed, skipped.size(), clock.ms() / 1000, log.path().c_str());
+  return pool.worst;
+}
+
+}  // namespace ffd

@@ -1,0 +1,209 @@
+// `ffdtool batch` and `ffdtool report` end to end, on real meshes from CGAL's data
+// (Debian's libcgal-demo, installed by scripts/setup.sh) and the bundled ones: outputs
+// byte-identical to single runs whatever --jobs, shards that add up to the whole, resume,
+// and failures (a broken file, a crash, a timeout) that stop nothing else.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "test_meshes.h"
+
+namespace ffd {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using test::data;
+using test::quoted;
+using test::read_file;
+using test::run_tool;
+using test::temp_folder;
+using test::write_file;
+
+const char* kScript = R"({"version": 1, "steps": [
+  {"op": "lattice", "name": "b", "cells": [4, 4, 4]},
+  {"op": "move", "lattice": "b", "points": [{"index": [2, 2, 2], "by": [0, 0.05, 0.1]}]},
+  {"op": "save", "path": "mid/stretched.obj"},
+  {"op": "move", "lattice": "b", "points": [{"index": [2, 2, 2], "by": [0.1, 0, 0]}]}]})";
+
+const char* kCgalData = "/usr/share/doc/libcgal-dev/data.tar.gz";
+
+// A folder of real meshes in the four formats, plus one broken file (`broken` true).
+std::string mesh_folder(const std::string& name, bool broken) {
+  const std::string dir = temp_folder(name);
+  const std::string in = dir + "/in";
+  fs::create_directories(in);
+  EXPECT_TRUE(fs::exists(kCgalData)) << kCgalData << " is missing: scripts/setup.sh installs libcgal-demo";
+  const std::string members = "data/meshes/pig.stl data/meshes/sphere.ply data/meshes/cube.off "
+                              "data/meshes/octahedron.off data/meshes/elephant.off data/meshes/b9.ply";
+  EXPECT_EQ(std::system(("tar -xzf " + std::string(kCgalData) + " -C " + quoted(dir) + " " + members).c_str()), 0);
+  for (const auto& entry : fs::directory_iterator(dir + "/data/meshes")) fs::copy(entry.path(), in);
+  fs::copy(data("bunny.obj"), in);
+  fs::copy(data("grid.obj"), in);
+  if (broken) write_file(in + "/broken.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");
+  write_file(dir + "/s.json", kScript);
+  return dir;
+}
+
+// Every file under `root`, relative path -> bytes; results logs left out (they hold times).
+std::map<std::string, std::string> files_under(const std::string& root) {
+  std::map<std::string, std::string> out;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    if (!entry.is_regular_file()) continue;
+    const std::string rel = fs::relative(entry.path(), root).string();
+    if (rel.rfind("results", 0) == 0) continue;
+    out[rel] = read_file(entry.path().string());
+  }
+  return out;
+}
+
+std::vector<json> results(const std::string& file) {
+  std::vector<json> out;
+  std::istringstream lines(read_file(file));
+  for (std::string line; std::getline(lines, line);) out.push_back(json::parse(line));
+  return out;
+}
+
+int batch(const std::string& args, std::string* err = nullptr) { return run_tool("batch " + args, nullptr, err); }
+
+TEST(Batch, RealMeshesAndABrokenOneGiveSingleRunsBytesAndOneLineEach) {
+  const std::string dir = mesh_folder("batch_real", true);
+  std::string err;
+  EXPECT_EQ(batch(quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out"), &err), 2) << err;
+  const std::vector<json> lines = results(dir + "/out/results.jsonl");
+  EXPECT_EQ(lines.size(), 9u);
+  std::set<std::string> formats;
+  for (const json& line : lines) {
+    const std::string input = line["input"], name = fs::path(input).stem().string();
+    if (name == "broken") {
+      EXPECT_EQ(line["status"], "error");
+      EXPECT_EQ(line["exit"], 2);
+      EXPECT_NE(line["error"].get<std::string>().find("broken.off:2"), std::string::npos) << line.dump();
+      EXPECT_FALSE(fs::exists(dir + "/out/broken.off"));
+      EXPECT_FALSE(fs::exists(dir + "/out/broken")) << "a failed item left its save folder";
+      continue;
+    }
+    EXPECT_EQ(line["status"], "ok") << line.dump();
+    formats.insert(fs::path(input).extension().string());
+    // The single run of the same mesh, and its bytes.
+    const std::string single = dir + "/single/" + name;
+    fs::create_directories(single + "/mid");
+    const std::string out = single + "/" + fs::path(input).filename().string();
+    ASSERT_EQ(run_tool("run " + quoted(input) + " " + quoted(dir + "/s.json") + " -o " + quoted(out) + " --quiet"), 0);
+    EXPECT_EQ(read_file(dir + "/out/" + fs::path(input).filename().string()), read_file(out)) << name;
+    EXPECT_EQ(read_file(dir + "/out/" + name + "/mid/stretched.obj"), read_file(single + "/mid/stretched.obj")) << name;
+    EXPECT_EQ(line["sha256"]["output"].get<std::string>().size(), 64u);
+    EXPECT_TRUE(line["stats"].is_array());
+  }
+  EXPECT_EQ(formats, (std::set<std::string>{".obj", ".off", ".ply", ".stl"}));
+  std::string report;
+  ASSERT_EQ(run_tool("report " + quoted(dir + "/out") + " --json", &report), 0);
+  const json r = json::parse(report);
+  EXPECT_EQ(r["counts"]["ok"], 8);
+  EXPECT_EQ(r["counts"]["failed"], 1);
+  EXPECT_EQ(r["failures"][0]["input"].get<std::string>(), dir + "/in/broken.off");
+  EXPECT_EQ(r["slowest"].size(), 5u);
+}
+
+TEST(Batch, OneJobOrTwoGiveTheSameBytes) {
+  const std::string dir = mesh_folder("batch_jobs", false);
+  const std::string args = quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o ";
+  ASSERT_EQ(batch(args + quoted(dir + "/one") + " --jobs 1"), 0);
+  ASSERT_EQ(batch(args + quoted(dir + "/two") + " --jobs 2"), 0);
+  const auto one = files_under(dir + "/one");
+  EXPECT_EQ(one.size(), 16u);  // 8 meshes and their saves
+  EXPECT_EQ(one, files_under(dir + "/two"));
+}
+
+TEST(Batch, ThreeShardsMakeTheWholeBatch) {
+  const std::string dir = mesh_folder("batch_shards", false);
+  const std::string args = quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o ";
+  ASSERT_EQ(batch(args + quoted(dir + "/all")), 0);
+  for (int i = 0; i < 3; ++i) ASSERT_EQ(batch(args + quoted(dir + "/shards") + " --shard " + std::to_string(i) + "/3"), 0);
+  EXPECT_EQ(files_under(dir + "/shards"), files_under(dir + "/all"));
+  std::set<std::string> inputs;
+  for (int i = 0; i < 3; ++i)
+    for (const json& line : results(dir + "/shards/results-" + std::to_string(i) + "-of-3.jsonl"))
+      EXPECT_TRUE(inputs.insert(line["input"].get<std::string>()).second) << "in two shards: " << line["input"];
+  EXPECT_EQ(inputs.size(), 8u);
+  // A Slurm array task finds its shard in the environment and says so.
+  std::string err;
+  EXPECT_EQ(run_tool("batch " + args + quoted(dir + "/slurm"), nullptr, &err), 0);
+  EXPECT_EQ(std::system(("SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=3 " FFD_TOOL " batch " + args +
+                         quoted(dir + "/env") + " 2>" + quoted(dir + "/env.err")).c_str()), 0);
+  EXPECT_NE(read_file(dir + "/env.err").find("shard 1/3 (SLURM_ARRAY_TASK_ID)"), std::string::npos);
+  EXPECT_EQ(results(dir + "/env/results-1-of-3.jsonl").size(), 3u);  // items 1, 4, 7
+}
+
+TEST(Batch, ResumeRerunsNothingUntilTheScriptChanges) {
+  const std::string dir = mesh_folder("batch_resume", false);
+  const std::string args = quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out");
+  ASSERT_EQ(batch(args), 0);
+  struct stat before {};
+  ASSERT_EQ(::stat((dir + "/out/bunny.obj").c_str(), &before), 0);
+  const auto bytes = files_under(dir + "/out");
+  ASSERT_EQ(batch(args + " --resume"), 0);
+  for (const json& line : results(dir + "/out/results.jsonl")) EXPECT_EQ(line["status"], "skipped") << line.dump();
+  struct stat after {};
+  ASSERT_EQ(::stat((dir + "/out/bunny.obj").c_str(), &after), 0);
+  EXPECT_EQ(before.st_ino, after.st_ino) << "the output was rewritten";
+  EXPECT_EQ(before.st_mtim.tv_nsec, after.st_mtim.tv_nsec);
+  EXPECT_EQ(files_under(dir + "/out"), bytes);
+  write_file(dir + "/s.json", std::string(kScript).replace(std::string(kScript).find("0.05"), 4, "0.07"));
+  ASSERT_EQ(batch(args + " --resume"), 0);
+  for (const json& line : results(dir + "/out/results.jsonl")) EXPECT_EQ(line["status"], "ok") << line.dump();
+  EXPECT_NE(files_under(dir + "/out"), bytes);
+}
+
+// The item process for one mesh crashes (a stand-in for the real one that kills itself),
+// another one runs past its time: both fail alone.
+TEST(Batch, ACrashAndATimeoutStopNothingElse) {
+  const std::string dir = mesh_folder("batch_crash", false);
+  write_file(dir + "/runner.sh",
+             "#!/bin/sh\ncase \"$2\" in\n  *cube.off) kill -SEGV $$ ;;\n  *octahedron.off) sleep 5 ;;\nesac\nexec " FFD_TOOL " \"$@\"\n");
+  fs::permissions(dir + "/runner.sh", fs::perms::owner_all);
+  const std::string command = "FFD_BATCH_RUNNER=" + quoted(dir + "/runner.sh") + " " FFD_TOOL " batch " +
+                              quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out") +
+                              " --timeout 1.5 2>" + quoted(dir + "/err");
+  const int status = std::system(command.c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 3) << read_file(dir + "/err");
+  std::map<std::string, json> by_name;
+  for (const json& line : results(dir + "/out/results.jsonl"))
+    by_name[fs::path(line["input"].get<std::string>()).stem().string()] = line;
+  ASSERT_EQ(by_name.size(), 8u);
+  EXPECT_EQ(by_name["cube"]["status"], "error");
+  EXPECT_NE(by_name["cube"]["error"].get<std::string>().find("killed by signal 11"), std::string::npos);
+  EXPECT_EQ(by_name["octahedron"]["status"], "error");
+  EXPECT_NE(by_name["octahedron"]["error"].get<std::string>().find("timed out after 1.5 s"), std::string::npos);
+  std::size_t ok = 0;
+  for (const auto& [name, line] : by_name) ok += line["status"] == "ok";
+  EXPECT_EQ(ok, 6u);
+}
+
+TEST(Batch, BadInputsAreRefusedBeforeAnyWork) {
+  const std::string dir = mesh_folder("batch_bad", false);
+  fs::create_directories(dir + "/other");
+  fs::copy(data("bunny.obj"), dir + "/other/bunny.obj");
+  std::string err;
+  EXPECT_EQ(batch(quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " " + quoted(dir + "/other") + " -o " +
+                      quoted(dir + "/out"), &err), 2);
+  EXPECT_NE(err.find("same name"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir + "/out/results.jsonl"));
+  write_file(dir + "/bad.json", R"({"version": 1, "steps": [{"op": "twist"}]})");
+  EXPECT_EQ(batch(quoted(dir + "/bad.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out2"), &err), 2);
+  EXPECT_NE(err.find("/steps/0/op"), std::string::npos) << err;
+  EXPECT_EQ(batch(quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out3") + " --shard 3/3", &err), 2);
+  EXPECT_NE(err.find("--shard"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace ffd
