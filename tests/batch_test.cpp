@@ -189,6 +189,26 @@ TEST(Batch, ACrashAndATimeoutStopNothingElse) {
   EXPECT_EQ(ok, 6u);
 }
 
+// --max-memory: a mesh too large for the limit fails as out of memory, a small one runs.
+TEST(Batch, AMeshPastTheMemoryLimitFailsAlone) {
+  const std::string dir = temp_folder("batch_memory");
+  fs::create_directories(dir + "/in");
+  fs::copy(data("bunny.obj"), dir + "/in/bunny.obj");
+  write_file(dir + "/in/big.obj", test::grid_obj(500));  // 251,001 vertices
+  write_file(dir + "/s.json", kScript);
+  std::string err;
+  EXPECT_EQ(batch(quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out") +
+                      " --max-memory 100M --jobs 1", &err), 3) << err;
+  std::map<std::string, json> by_name;
+  for (const json& line : results(dir + "/out/results.jsonl"))
+    by_name[fs::path(line["input"].get<std::string>()).stem().string()] = line;
+  EXPECT_EQ(by_name["bunny"]["status"], "ok");
+  EXPECT_EQ(by_name["big"]["status"], "error");
+  EXPECT_EQ(by_name["big"]["exit"], 3);
+  EXPECT_NE(by_name["big"]["error"].get<std::string>().find("out of memory"), std::string::npos) << by_name["big"].dump();
+  EXPECT_FALSE(fs::exists(dir + "/out/big.obj"));
+}
+
 TEST(Batch, BadInputsAreRefusedBeforeAnyWork) {
   const std::string dir = mesh_folder("batch_bad", false);
   fs::create_directories(dir + "/other");

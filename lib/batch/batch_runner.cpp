@@ -61,15 +61,19 @@ Plan plan_batch(const BatchOptions& options) {
   return plan;
 }
 
-// The message of an item's "ffdtool: error: ..." line, or what else ended it.
+// The message of an item's "ffdtool: error: ..." line, or what else ended it (with the
+// last line it wrote, if any: a loader that could not map a library, say).
 std::string error_message(const std::string& stderr_path, const ChildEnd& end) {
-  if (!end.reason.empty()) return end.reason;
   std::ifstream is(stderr_path);
-  std::string line, message;
+  std::string line, message, last;
   const std::string prefix = "ffdtool: error: ";
-  while (std::getline(is, line))
+  while (std::getline(is, line)) {
     if (line.rfind(prefix, 0) == 0) message = line.substr(prefix.size());
-  return message.empty() ? "exited with code " + std::to_string(end.exit) : message;
+    if (!line.empty()) last = line;
+  }
+  if (end.reason.empty() && !message.empty()) return message;
+  const std::string reason = end.reason.empty() ? "exited with code " + std::to_string(end.exit) : end.reason;
+  return last.empty() || !message.empty() ? reason : reason + ": " + last;
 }
 
 // The results line of a finished item.

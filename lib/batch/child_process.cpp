@@ -53,7 +53,11 @@ ChildEnd child_end(int status, bool timed_out, double timeout_s) {
     std::snprintf(text, sizeof text, "timed out after %g s", timeout_s);
     return {3, text};
   }
-  if (WIFEXITED(status)) return {WEXITSTATUS(status), ""};
+  if (WIFEXITED(status)) {
+    const int code = WEXITSTATUS(status);
+    if (code == 0 || code == 2 || code == 3) return {code, ""};
+    return {3, "exited with code " + std::to_string(code)};  // not ffdtool's: it could not start
+  }
   if (WIFSIGNALED(status)) {
     const int signal = WTERMSIG(status);
     const char* name = ::strsignal(signal);

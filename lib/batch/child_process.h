@@ -25,8 +25,8 @@ Child start_child(const std::string& program, const std::vector<std::string>& ar
 
 /// How a child ended.
 struct ChildEnd {
-  int exit = 0;         // its exit code; 3 when a signal or the timeout ended it
-  std::string reason;   // for a signal or a timeout: what happened, else ""
+  int exit = 0;         // 0, 2 or 3: ffdtool's exit code; 3 when anything else ended it
+  std::string reason;   // for a signal, a timeout or a foreign exit code: what happened, else ""
 };
 
 /// The end of a child from waitpid's status, `timed_out` if we killed it for its time.
