@@ -1,0 +1,281 @@
+// The progress reporter (lib/common/progress.h): NDJSON events that parse, in order, with
+// monotone fractions; string escaping; the terminal line (shown late, cleared); the batch
+// calls from several threads; nothing at all in mode None.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/progress.h"
+
+namespace ffd {
+namespace {
+
+using json = nlohmann::json;
+
+// A temporary file to report into, and what was written to it.
+class Capture {
+public:
+  Capture() : file_(std::tmpfile()) {}
+  ~Capture() { std::fclose(file_); }
+  std::FILE* file() const { return file_; }
+  std::string text() const {
+    std::fflush(file_);
+    const long end = std::ftell(file_);
+    std::string out(static_cast<std::size_t>(end), '\0');
+    std::rewind(file_);
+    const std::size_t got = std::fread(out.data(), 1, out.size(), file_);
+    std::fseek(file_, 0, SEEK_END);
+    out.resize(got);
+    return out;
+  }
+
+private:
+  std::FILE* file_;
+};
+
+// Each line of `text` parsed as JSON (a line that does not parse fails the test).
+std::vector<json> events(const std::string& text) {
+  std::vector<json> out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = text.find('\n', start);
+    EXPECT_NE(end, std::string::npos) << "the last event has no newline";
+    const std::string line = text.substr(start, end - start);
+    try {
+      out.push_back(json::parse(line));
+    } catch (const json::exception& e) {
+      ADD_FAILURE() << "not JSON: " << line << " (" << e.what() << ")";
+    }
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return out;
+}
+
+TEST(JsonQuote, EscapesQuotesBackslashesAndControlCharacters) {
+  EXPECT_EQ(json_quote(""), R"("")");
+  EXPECT_EQ(json_quote("plain/path.obj"), R"("plain/path.obj")");
+  EXPECT_EQ(json_quote("say \"hi\""), R"("say \"hi\"")");
+  EXPECT_EQ(json_quote("C:\\meshes\\a.obj"), R"("C:\\meshes\\a.obj")");
+  EXPECT_EQ(json_quote("a\nb\tc\rd\be\ff"), R"("a\nb\tc\rd\be\ff")");
+  EXPECT_EQ(json_quote(std::string("\x01\x1f\0x", 4)), R"("\u0001\u001f\u0000x")");
+  EXPECT_EQ(json_quote("\x7f"), "\"\x7f\"");  // DEL needs no escape
+  // Whatever goes in comes back out of a JSON parser.
+  for (const std::string& s : {std::string("\"\\\"\\\\"), std::string("tab\there\nnew \"line\"\\"),
+                              std::string("\x1b[31mred\x1b[0m"), std::string("\0\x01\x02", 3)})
+    EXPECT_EQ(json::parse(json_quote(s)).get<std::string>(), s);
+}
+
+TEST(JsonQuote, KeepsUtf8AndReplacesInvalidBytes) {
+  const std::string utf8 = "h\xc3\xa9llo \xe2\x82\xac \xf0\x9f\x98\x80";  // é, €, an emoji
+  EXPECT_EQ(json_quote(utf8), "\"" + utf8 + "\"");
+  const std::string replacement = "\xef\xbf\xbd";  // U+FFFD
+  // A stray byte, a truncated sequence, an overlong form, a surrogate, past U+10FFFF.
+  EXPECT_EQ(json::parse(json_quote("a\xff" "b")).get<std::string>(), "a" + replacement + "b");
+  EXPECT_EQ(json::parse(json_quote("a\xc3")).get<std::string>(), "a" + replacement);
+  EXPECT_EQ(json::parse(json_quote("\xc0\xaf")).get<std::string>(), replacement + replacement);
+  EXPECT_EQ(json::parse(json_quote("\xed\xa0\x80")).get<std::string>(), replacement + replacement + replacement);
+  EXPECT_EQ(json::parse(json_quote("\xf4\x90\x80\x80")).get<std::string>(),
+            replacement + replacement + replacement + replacement);
+}
+
+TEST(JsonEvent, WritesFieldsInOrderWithJsonNumbers) {
+  const std::string line = JsonEvent("item_end")
+                               .text("input", "in/\"odd\".obj")
+                               .integer("exit", -2)
+                               .number("ms", 12.34567, 2)
+                               .number("nan", std::nan(""))
+                               .number("zero", -0.0)
+                               .boolean("ok", false)
+                               .str();
+  EXPECT_EQ(line, R"({"event":"item_end","input":"in/\"odd\".obj","exit":-2,"ms":12.35,"nan":null,"zero":0,"ok":false})");
+  EXPECT_NO_THROW(json::parse(line));
+}
+
+// A step's reports, out of order and out of range on purpose.
+void report_a_step(Progress& progress, std::size_t index, std::size_t total) {
+  progress.step_start(index, total, "remesh");
+  for (double f : {0.0, 0.005, 0.3, 0.2, std::nan(""), -1.0, 0.3, 0.305, 0.32, 0.9, 2.0, 0.5})
+    progress.step_progress(f);
+  for (int i = 0; i <= 1000; ++i) progress.step_progress(i / 1000.0);
+  progress.step_end(12.5);
+}
+
+TEST(ProgressJson, StepEventsParseAndComeInOrderWithMonotoneFractions) {
+  Capture out;
+  {
+    Progress progress(ProgressMode::Json, out.file());
+    ASSERT_EQ(progress.mode(), ProgressMode::Json);
+    ASSERT_TRUE(progress.step_callback());
+    report_a_step(progress, 0, 2);
+    progress.step_start(1, 2, "save");
+    progress.step_end(1.25, false);
+  }
+  const std::vector<json> ev = events(out.text());
+  ASSERT_GE(ev.size(), 5u);
+  EXPECT_EQ(ev.front(), json::parse(R"({"event":"step_start","index":0,"total":2,"op":"remesh"})"));
+  double last = -1;
+  std::size_t progress_events = 0;
+  for (std::size_t i = 1; i + 3 < ev.size(); ++i) {
+    EXPECT_EQ(ev[i]["event"], "step_progress") << ev[i];
+    EXPECT_EQ(ev[i]["index"], 0);
+    const double f = ev[i]["fraction"].get<double>();
+    EXPECT_GE(f, 0.0);
+    EXPECT_LE(f, 1.0);
+    EXPECT_GT(f, last) << "fractions only grow";
+    last = f;
+    ++progress_events;
+  }
+  EXPECT_EQ(last, 1.0);  // 2.0 is clamped to 1
+  EXPECT_LE(progress_events, 101u) << "one event per 1% at most";
+  EXPECT_EQ(ev[ev.size() - 3], json::parse(R"({"event":"step_end","index":0,"ms":12.5,"status":"ok"})"));
+  EXPECT_EQ(ev[ev.size() - 2], json::parse(R"({"event":"step_start","index":1,"total":2,"op":"save"})"));
+  EXPECT_EQ(ev.back(), json::parse(R"({"event":"step_end","index":1,"ms":1.25,"status":"error"})"));
+}
+
+TEST(ProgressJson, TheSameReportsGiveTheSameEvents) {
+  Capture a, b;
+  {
+    Progress pa(ProgressMode::Json, a.file()), pb(ProgressMode::Json, b.file());
+    report_a_step(pa, 3, 6);
+    report_a_step(pb, 3, 6);
+  }
+  EXPECT_EQ(a.text(), b.text());
+}
+
+TEST(ProgressJson, BatchEventsFromManyThreadsAreWholeLines) {
+  Capture out;
+  const int threads = 4, per_thread = 50;
+  {
+    Progress progress(ProgressMode::Json, out.file());
+    progress.begin(threads * per_thread);
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+      pool.emplace_back([&progress, t] {
+        for (int i = 0; i < per_thread; ++i) {
+          const std::string input = "in/mesh \"" + std::to_string(t) + "\"\\" + std::to_string(i) + ".obj";
+          progress.item_start(input);
+          const bool bad = i % 10 == 0;
+          progress.item_end(input, bad ? "error" : (i % 10 == 1 ? "skipped" : "ok"), 1.5,
+                            bad ? "line 3: \"v\" needs 3 numbers\n" : "");
+        }
+      });
+    for (std::thread& t : pool) t.join();
+    progress.event(JsonEvent("shard").integer("index", 1).integer("count", 3));
+    progress.finish();
+  }
+  const std::vector<json> ev = events(out.text());
+  ASSERT_EQ(ev.size(), 2u + 2u * threads * per_thread + 1u);
+  EXPECT_EQ(ev.front(), json::parse(R"({"event":"batch_start","total":200})"));
+  std::size_t starts = 0, ends = 0, errors = 0;
+  for (const json& e : ev) {
+    starts += e["event"] == "item_start";
+    ends += e["event"] == "item_end";
+    if (e["event"] == "item_end" && e["status"] == "error") {
+      ++errors;
+      EXPECT_EQ(e["error"], "line 3: \"v\" needs 3 numbers\n");
+    }
+  }
+  EXPECT_EQ(starts, 200u);
+  EXPECT_EQ(ends, 200u);
+  EXPECT_EQ(errors, 20u);
+  EXPECT_EQ(ev[ev.size() - 2], json::parse(R"({"event":"shard","index":1,"count":3})"));
+  const json& end = ev.back();
+  EXPECT_EQ(end["event"], "batch_end");
+  EXPECT_EQ(end["total"], 200);
+  EXPECT_EQ(end["done"], 200);
+  EXPECT_EQ(end["failures"], 20);
+  EXPECT_GE(end["ms"].get<double>(), 0.0);
+}
+
+TEST(ProgressNone, WritesNothingAndHasNoCallback) {
+  Capture out;
+  {
+    Progress progress(ProgressMode::None, out.file());
+    EXPECT_FALSE(progress.step_callback());
+    report_a_step(progress, 0, 1);
+    progress.begin(3);
+    progress.item_start("a.obj");
+    progress.item_end("a.obj", "ok", 1);
+    progress.event(JsonEvent("shard"));
+    progress.finish();
+  }
+  EXPECT_EQ(out.text(), "");
+}
+
+TEST(ProgressModes, AutoIsNoneWhenTheStreamIsNotATerminal) {
+  Capture out;
+  EXPECT_EQ(resolve_progress_mode(ProgressMode::Auto, out.file()), ProgressMode::None);
+  EXPECT_EQ(resolve_progress_mode(ProgressMode::Json, out.file()), ProgressMode::Json);
+  EXPECT_EQ(Progress(ProgressMode::Auto, out.file()).mode(), ProgressMode::None);
+  EXPECT_EQ(progress_mode_names().at("json"), ProgressMode::Json);
+  EXPECT_EQ(progress_mode_names().size(), 3u);
+}
+
+// What a terminal would show at the end: the text after the last carriage return.
+std::string last_segment(const std::string& text) {
+  const std::size_t cr = text.rfind('\r');
+  return cr == std::string::npos ? text : text.substr(cr + 1);
+}
+
+TEST(ProgressTerminal, ShowsALongStepWithItsFractionAndClearsIt) {
+  Capture out;
+  {
+    Progress progress(ProgressMode::Terminal, out.file(), 0.0);  // show at once
+    progress.step_start(2, 5, "remesh");
+    progress.step_progress(0.42);
+    std::this_thread::sleep_for(std::chrono::milliseconds(350));
+    progress.step_end(350);
+  }
+  const std::string text = out.text();
+  EXPECT_NE(text.find("\r  [2] remesh, step 3 of 5: 42%"), std::string::npos) << text;
+  EXPECT_EQ(text.find('\n'), std::string::npos) << "a live line never scrolls";
+  EXPECT_EQ(text.back(), '\r');
+  EXPECT_EQ(last_segment(text.substr(0, text.size() - 1)).find_first_not_of(' '), std::string::npos)
+      << "cleared at the end";
+}
+
+TEST(ProgressTerminal, ShowsNothingForAStepShorterThanASecond) {
+  Capture out;
+  {
+    Progress progress(ProgressMode::Terminal, out.file());
+    progress.step_start(0, 1, "bcm");
+    progress.step_progress(0.5);
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    progress.step_end(250);
+  }
+  EXPECT_EQ(out.text(), "");
+}
+
+TEST(ProgressTerminal, BatchLineCountsItemsAndMessagesGoAboveIt) {
+  Capture out;
+  {
+    Progress progress(ProgressMode::Terminal, out.file());
+    progress.begin(4);
+    progress.item_end("a.obj", "ok", 10);
+    progress.item_end("b.obj", "error", 10, "bad");
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    progress.message("ffdtool: b.obj: bad");
+    progress.finish();
+  }
+  const std::string text = out.text();
+  EXPECT_NE(text.find("\r2/4 done, 1 failed, "), std::string::npos) << text;
+  EXPECT_NE(text.find(" meshes/s, ETA "), std::string::npos) << text;
+  // The message starts on a cleared line and ends with a newline.
+  const std::size_t message = text.find("ffdtool: b.obj: bad\n");
+  ASSERT_NE(message, std::string::npos) << text;
+  ASSERT_GT(message, 0u);
+  EXPECT_EQ(text[message - 1], '\r');
+  EXPECT_EQ(last_segment(text.substr(0, text.size() - 1)).find_first_not_of(' '), std::string::npos) << text;
+}
+
+}  // namespace
+}  // namespace ffd
