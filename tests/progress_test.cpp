@@ -1,11 +1,14 @@
 // The progress reporter (lib/common/progress.h): NDJSON events that parse, in order, with
 // monotone fractions; string escaping; the terminal line (shown late, cleared); the batch
-// calls from several threads; nothing at all in mode None.
+// calls from several threads; nothing at all in mode None. The algorithms' progress
+// callbacks (remesh, bcm setup) report fractions in [0, 1] and change nothing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <string>
 #include <thread>
@@ -13,7 +16,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bcm/bcm_editor.h"
+#include "bcm_test_util.h"
 #include "common/progress.h"
+#include "remesh/adaptive_remesher.h"
+#include "test_meshes.h"
+#include "warp/bspline_lattice.h"
+#include "warp/warp_stack.h"
 
 namespace ffd {
 namespace {
@@ -275,6 +284,101 @@ TEST(ProgressTerminal, BatchLineCountsItemsAndMessagesGoAboveIt) {
   ASSERT_GT(message, 0u);
   EXPECT_EQ(text[message - 1], '\r');
   EXPECT_EQ(last_segment(text.substr(0, text.size() - 1)).find_first_not_of(' '), std::string::npos) << text;
+}
+
+// What a remesh up (two lattice points moved) and back down (moved back) leaves, with or
+// without a progress callback recording its fractions.
+struct RemeshRun {
+  std::vector<std::vector<std::uint32_t>> faces_up, faces_down;
+  Eigen::Matrix3Xd positions_up, normals_up, positions_down;
+  RemeshStats up, down;
+};
+
+RemeshRun remesh_up_and_down(std::vector<double>* fractions) {
+  Mesh mesh = test::grid_mesh(40, [](double x, double y) { return 0.05 * std::sin(3 * x) * std::cos(2 * y); });
+  WarpStack stack;
+  const Parallelepiped box =
+      Parallelepiped::from_min_max(Eigen::Vector3d(-0.01, -0.01, -0.5), Eigen::Vector3d(1.01, 1.01, 0.5));
+  auto owned = std::make_unique<BSplineLattice>(box, Index3{6, 6, 4}, 3);
+  BSplineLattice* lattice = owned.get();
+  stack.push(mesh, "l", std::move(owned));
+  const auto move = [&](const Index3& ijk, const Eigen::Vector3d& to) {
+    lattice->move_point(ijk, to);
+    stack.update(mesh, "l");
+  };
+  std::function<void(double)> callback;
+  if (fractions) callback = [fractions](double f) { fractions->push_back(f); };
+  RemeshOptions options;
+  options.theta_max_deg = 4;
+  options.theta_min_deg = 3;
+  RemeshRun run;
+  move({3, 2, 2}, lattice->point({3, 2, 2}) + Eigen::Vector3d(0.1, 0, 0.4));
+  move({3, 4, 2}, lattice->point({3, 4, 2}) + Eigen::Vector3d(-0.1, 0.05, -0.3));
+  run.up = adaptive_remesh(mesh, stack, options, callback);
+  run.faces_up = mesh.faces();
+  run.positions_up = mesh.positions();
+  run.normals_up = mesh.normals();
+  for (const Index3& p : {Index3{3, 2, 2}, Index3{3, 4, 2}}) move(p, lattice->rest_point(p));
+  run.down = adaptive_remesh(mesh, stack, options, callback);
+  run.faces_down = mesh.faces();
+  run.positions_down = mesh.positions();
+  return run;
+}
+
+TEST(RemeshProgress, ReportsFractionsInRangeAndChangesNothing) {
+  std::vector<double> fractions;
+  const RemeshRun plain = remesh_up_and_down(nullptr), reported = remesh_up_and_down(&fractions);
+  ASSERT_GT(plain.up.refinements, 2000u) << "enough to report during refinement";
+  ASSERT_GT(plain.down.decimations, 2000u) << "and during decimation";
+  EXPECT_EQ(reported.faces_up, plain.faces_up);
+  EXPECT_EQ(reported.positions_up, plain.positions_up);
+  EXPECT_EQ(reported.normals_up, plain.normals_up);
+  EXPECT_EQ(reported.faces_down, plain.faces_down);
+  EXPECT_EQ(reported.positions_down, plain.positions_down);
+  for (const auto& [a, b] : {std::pair{reported.up, plain.up}, std::pair{reported.down, plain.down}}) {
+    EXPECT_EQ(a.edges_tested, b.edges_tested);
+    EXPECT_EQ(a.refinements, b.refinements);
+    EXPECT_EQ(a.decimations, b.decimations);
+    EXPECT_EQ(a.max_level_hits, b.max_level_hits);
+    EXPECT_EQ(a.faces_after, b.faces_after);
+    EXPECT_EQ(a.highest_level, b.highest_level);
+  }
+  // Reports during the scan, the refinement and the decimation, each run ending at 1.
+  ASSERT_GT(fractions.size(), 6u);
+  for (double f : fractions) {
+    EXPECT_GE(f, 0.0);
+    EXPECT_LE(f, 1.0);
+  }
+  EXPECT_EQ(std::count(fractions.begin(), fractions.end(), 1.0), 2);
+  EXPECT_EQ(fractions.back(), 1.0);
+}
+
+TEST(BcmProgress, ReportsEachPhaseInOrderAndChangesNothing) {
+  const Mesh mesh = test::sphere_mesh(3);
+  const std::vector<std::uint32_t> support = test::pick(mesh, [](const Eigen::Vector3d& p) { return p.z() > -0.3; });
+  const std::vector<BcmHandle> handles = {{"top", test::pick(mesh, [](const Eigen::Vector3d& p) { return p.z() > 0.8; })}};
+  for (bool detail : {false, true}) {
+    SCOPED_TRACE(detail ? "with detail" : "without detail");
+    BcmOptions options;
+    options.detail = detail;
+    std::vector<double> fractions;
+    BcmData plain = bcm_precompute(mesh, support, handles, options);
+    BcmData reported = bcm_precompute(mesh, support, handles, options, [&](double f) { fractions.push_back(f); });
+    EXPECT_EQ(reported.constant, plain.constant);
+    EXPECT_EQ(reported.basis, plain.basis);
+    const Eigen::Matrix3d linear = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    Eigen::Matrix3Xd a = mesh.positions(), b = mesh.positions();
+    bcm_set_pose(plain, 0, linear, Eigen::Vector3d(0, 0.1, 0.2));
+    bcm_set_pose(reported, 0, linear, Eigen::Vector3d(0, 0.1, 0.2));
+    bcm_pose(plain, a);
+    bcm_pose(reported, b);
+    EXPECT_EQ(a, b);
+    // One report per phase: regions, operator, system, factorization, basis (, detail).
+    ASSERT_EQ(fractions.size(), detail ? 6u : 5u);
+    for (std::size_t i = 1; i < fractions.size(); ++i) EXPECT_GT(fractions[i], fractions[i - 1]);
+    EXPECT_GT(fractions.front(), 0.0);
+    EXPECT_EQ(fractions.back(), 1.0);
+  }
 }
 
 }  // namespace
