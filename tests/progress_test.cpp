@@ -1,15 +1,20 @@
 // The progress reporter (lib/common/progress.h): NDJSON events that parse, in order, with
 // monotone fractions; string escaping; the terminal line (shown late, cleared); the batch
 // calls from several threads; nothing at all in mode None. The algorithms' progress
-// callbacks (remesh, bcm setup) report fractions in [0, 1] and change nothing.
+// callbacks (remesh, bcm setup) report fractions in [0, 1] and change nothing. And
+// `ffdtool run --progress`: events for every step, the same bytes out, nothing extra by
+// default when stderr is not a terminal.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <limits>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -379,6 +384,170 @@ TEST(BcmProgress, ReportsEachPhaseInOrderAndChangesNothing) {
     EXPECT_GT(fractions.front(), 0.0);
     EXPECT_EQ(fractions.back(), 1.0);
   }
+}
+
+// A remesh, a bcm setup and a transform with saved frames on the bundled bunny.
+const char* const kScript = R"({"version": 1, "steps": [
+  {"op": "lattice", "name": "body", "cells": [6, 6, 6], "box": {"fit": "aabb", "padding": 0.05}},
+  {"op": "move", "lattice": "body", "select": {"box": {"min": [-10, 3, 1], "max": [10, 20, 20]}},
+   "transform": {"translate": [0, 0, 1.2]}},
+  {"op": "remesh"},
+  {"op": "bcm", "name": "ear", "support": {"sphere": {"center": [0.0, 9.65, -1.36], "radius": 2.2}},
+   "handles": [{"name": "tip", "select": {"sphere": {"center": [0.0, 9.65, -1.36], "radius": 0.5}}}], "k": 2},
+  {"op": "transform", "editor": "ear", "frames": [{"translate": [0, 0.2, 0]}, {"translate": [0, 0.4, 0]},
+   {"translate": [0, 0.6, 0]}], "save": "frame_{i}.obj"}]})";
+const std::vector<std::string> kOps = {"lattice", "move", "remesh", "bcm", "transform"};
+const std::vector<std::string> kOutputs = {"out.obj", "frame_0.obj", "frame_1.obj", "frame_2.obj"};
+
+// `ffdtool run` of kScript on the bunny into a fresh folder `name`; returns the exit code.
+int run_script_in(const std::string& name, const std::string& extra, std::string& dir, std::string& err) {
+  dir = test::temp_folder(name);
+  test::write_file(dir + "/script.json", kScript);
+  return test::run_tool("run " + test::quoted(test::data("bunny.obj")) + " " + test::quoted(dir + "/script.json") +
+                            " -o " + test::quoted(dir + "/out.obj") + " --stats " + test::quoted(dir + "/stats.json") +
+                            (extra.empty() ? "" : " " + extra),
+                        nullptr, &err);
+}
+
+// The lines of `text` that are events (start with '{'), parsed; the others are the
+// run's own lines.
+std::vector<json> event_lines(const std::string& text) {
+  std::vector<json> out;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty() && line[0] == '{') out.push_back(json::parse(line));
+  return out;
+}
+
+// Checks that `ev` is, for each step in order, its start, its progress (monotone, in
+// [0, 1]) and its end. Returns the number of progress events per step.
+std::vector<std::size_t> expect_step_sequence(const std::vector<json>& ev, const std::vector<std::string>& ops) {
+  std::vector<std::size_t> progress(ops.size(), 0);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    SCOPED_TRACE("step " + std::to_string(i));
+    if (k >= ev.size()) {
+      ADD_FAILURE() << "no events for step " << i;
+      break;
+    }
+    EXPECT_EQ(ev[k++], (json{{"event", "step_start"}, {"index", i}, {"total", ops.size()}, {"op", ops[i]}}));
+    double last = -1;
+    for (; k < ev.size() && ev[k]["event"] == "step_progress"; ++k, ++progress[i]) {
+      EXPECT_EQ(ev[k]["index"], i);
+      const double f = ev[k]["fraction"].get<double>();
+      EXPECT_TRUE(f > last && f >= 0 && f <= 1) << ev[k];
+      last = f;
+    }
+    if (k >= ev.size()) break;
+    EXPECT_EQ(ev[k]["event"], "step_end");
+    EXPECT_EQ(ev[k]["index"], i);
+    EXPECT_EQ(ev[k]["status"], "ok");
+    EXPECT_GE(ev[k]["ms"].get<double>(), 0.0);
+    ++k;
+  }
+  EXPECT_EQ(k, ev.size()) << "events after the last step";
+  return progress;
+}
+
+TEST(ProgressCli, JsonGivesEveryStepsStartAndEndAndTheBcmSetupsProgress) {
+  std::string dir, err;
+  ASSERT_EQ(run_script_in("progress_json", "--progress json", dir, err), 0) << err;
+  const std::vector<std::size_t> progress = expect_step_sequence(event_lines(err), kOps);
+  EXPECT_GE(progress[3], 1u) << "the bcm setup reports its phases\n" << err;
+  EXPECT_GE(progress[2], 1u) << "the remesh reports\n" << err;
+  EXPECT_EQ(progress[4], 3u) << "frame i of 3\n" << err;
+  // The per-step lines stay, each after its step's end event.
+  EXPECT_NE(err.find("\"step_end\",\"index\":3,"), std::string::npos);
+  EXPECT_LT(err.find("\"step_end\",\"index\":3,"), err.find("  [3] bcm 'ear'")) << err;
+  // With --quiet, stderr holds the events alone.
+  ASSERT_EQ(run_script_in("progress_json_quiet", "--progress json --quiet", dir, err), 0) << err;
+  expect_step_sequence(events(err), kOps);
+}
+
+// The stats file in `dir` without times (remesh's "ms_*" too) and the run's own paths.
+json counts_of(const std::string& dir) {
+  json stats = test::without_measurements(json::parse(test::read_file(dir + "/stats.json")));
+  stats["input"].erase("script");
+  stats["output"].erase("mesh");
+  for (json& step : stats["steps"])
+    for (const char* key : {"ms_test", "ms_refine", "ms_decimate"}) step.erase(key);
+  return stats;
+}
+
+TEST(ProgressCli, OutputsAreByteIdenticalWithAndWithoutProgress) {
+  std::string with, without, err;
+  ASSERT_EQ(run_script_in("progress_bytes_json", "--progress json", with, err), 0) << err;
+  ASSERT_EQ(run_script_in("progress_bytes_none", "--progress none", without, err), 0) << err;
+  for (const std::string& file : kOutputs) {
+    const std::string a = test::read_file(with + "/" + file), b = test::read_file(without + "/" + file);
+    EXPECT_FALSE(a.empty()) << file;
+    EXPECT_TRUE(a == b) << file << " differs";
+  }
+  EXPECT_EQ(counts_of(with), counts_of(without));
+}
+
+// stderr with its times ("12.3 ms") blanked, to compare runs.
+std::string without_times(const std::string& text) {
+  return std::regex_replace(text, std::regex("[0-9][0-9.,]* ms"), "_ ms");
+}
+
+TEST(ProgressCli, ByDefaultNothingExtraGoesToAStderrThatIsNotATerminal) {
+  std::string dir, by_default, none;
+  ASSERT_EQ(run_script_in("progress_default", "", dir, by_default), 0) << by_default;
+  ASSERT_EQ(run_script_in("progress_none", "--progress none", dir, none), 0) << none;
+  EXPECT_EQ(by_default.find('\r'), std::string::npos);
+  EXPECT_EQ(by_default.find('{'), std::string::npos);
+  // The folders differ, and so do the paths in the first and last lines.
+  const auto same_paths = [](std::string text) {
+    return std::regex_replace(without_times(text), std::regex("progress_(default|none)"), "_");
+  };
+  EXPECT_EQ(same_paths(by_default), same_paths(none));
+  EXPECT_NE(by_default.find("  [3] bcm 'ear'"), std::string::npos) << by_default;
+}
+
+TEST(ProgressCli, OnATerminalStepsShorterThanASecondShowNothing) {
+  if (std::system("command -v script >/dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1) to make a terminal";
+  std::string dir, none;
+  ASSERT_EQ(run_script_in("progress_tty_none", "--progress none", dir, none), 0) << none;
+  // The same run with stderr on a pseudo-terminal (util-linux script) and the default.
+  const std::string tty_dir = test::temp_folder("progress_tty_auto");
+  test::write_file(tty_dir + "/script.json", kScript);
+  const std::string command = std::string(FFD_TOOL) + " run " + test::quoted(test::data("bunny.obj")) + " " +
+                              test::quoted(tty_dir + "/script.json") + " -o " + test::quoted(tty_dir + "/out.obj") +
+                              " --stats " + test::quoted(tty_dir + "/stats.json");
+  const std::string typescript = tty_dir + "/typescript";
+  ASSERT_EQ(std::system(("script -q -e -c \"" + command + "\" /dev/null </dev/null >" + typescript).c_str()), 0);
+  std::string shown = test::read_file(typescript);
+  shown = std::regex_replace(shown, std::regex("\r\n"), "\n");  // the terminal's line ends
+  EXPECT_EQ(shown.find('\r'), std::string::npos) << shown;
+  const auto same_paths = [](std::string text) {
+    return std::regex_replace(without_times(text), std::regex("progress_tty_(auto|none)"), "_");
+  };
+  EXPECT_EQ(same_paths(shown), same_paths(none));
+}
+
+TEST(ProgressCli, AFailingStepEndsWithAnErrorEvent) {
+  const std::string dir = test::temp_folder("progress_fail");
+  test::write_file(dir + "/script.json", R"({"version": 1, "steps": [
+    {"op": "lattice", "name": "body", "cells": [6, 6, 6]},
+    {"op": "bcm", "name": "far", "support": {"sphere": {"center": [100, 100, 100], "radius": 1}},
+     "handles": [{"name": "h", "select": {"sphere": {"center": [100, 100, 100], "radius": 0.5}}}]}]})");
+  std::string err;
+  EXPECT_EQ(test::run_tool("run " + test::quoted(test::data("bunny.obj")) + " " + test::quoted(dir + "/script.json") +
+                               " -o " + test::quoted(dir + "/out.obj") + " --progress json --quiet",
+                           nullptr, &err),
+            2);
+  const std::vector<json> ev = event_lines(err);
+  ASSERT_EQ(ev.size(), 4u) << err;
+  EXPECT_EQ(ev[3]["event"], "step_end");
+  EXPECT_EQ(ev[3]["index"], 1);
+  EXPECT_EQ(ev[3]["status"], "error");
+  EXPECT_NE(err.find("ffdtool: error: "), std::string::npos) << err;
+  EXPECT_EQ(test::run_tool("run " + test::quoted(test::data("bunny.obj")) + " " + test::quoted(dir + "/script.json") +
+                           " -o " + test::quoted(dir + "/out.obj") + " --progress sometimes",
+                           nullptr, &err),
+            2);
+  EXPECT_NE(err.find("--progress"), std::string::npos) << err;
 }
 
 }  // namespace

@@ -149,6 +149,13 @@ void add_run(CLI::App& app, Commands& c) {
   c.run_cmd->add_flag("--quiet", run.quiet, "No per-step lines on stderr");
   c.run_cmd->add_option("--threads", run.threads, "Threads for evaluation (default: all cores)")
       ->check(CLI::NonNegativeNumber);
+  run.progress = ffd::ProgressMode::Auto;
+  c.run_cmd
+      ->add_option_function<std::string>(
+          "--progress", [&run](const std::string& name) { run.progress = ffd::progress_mode_names().at(name); },
+          "auto: the step in progress on a terminal's stderr (not with --quiet); json: NDJSON events on stderr; none")
+      ->check(CLI::IsMember({"auto", "json", "none"}))
+      ->default_str("auto");
 }
 
 void add_compare(CLI::App& app, Commands& c) {
