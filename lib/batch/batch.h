@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "batch/batch_items.h"
+#include "common/progress.h"
 
 namespace ffd {
 
@@ -24,6 +25,7 @@ struct BatchOptions {
   double timeout_s = 0;              // per item; 0: none
   std::size_t max_memory = 0;        // per item, bytes of address space; 0: none
   std::string runner;                // the ffdtool that runs items; "": this one
+  ProgressMode progress = ProgressMode::None;  // a live line or events on stderr
 };
 
 /// Runs the batch and returns its exit code: the worst of its items' (0, 2 or 3). Every

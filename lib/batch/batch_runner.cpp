@@ -148,7 +148,7 @@ struct Running {
 // The items' processes, at most plan.jobs at once, and their results as they finish.
 class ItemPool {
 public:
-  ItemPool(const Plan& plan, ResultsLog& log) : plan_(plan), log_(log) {}
+  ItemPool(const Plan& plan, ResultsLog& log, Progress& progress) : plan_(plan), log_(log), progress_(progress) {}
 
   void start(const BatchItem& item) {
     std::error_code ec;
@@ -162,6 +162,7 @@ public:
                                      "--stats", r.stats_path, "--quiet", "--threads", std::to_string(plan_.threads)};
     if (!plan_.saves.empty()) args.insert(args.end(), {"--save-dir", item.save_folder});
     r.child = start_child(plan_.program, args, r.stderr_path, plan_.options.max_memory);
+    progress_.item_start(item.input);
     running_.push_back(std::move(r));
   }
 
@@ -205,30 +206,38 @@ private:
     const ResultRecord record = record_of(plan_, r.item, end, ms, r.stats_path, r.stderr_path);
     log_.append(record);
     worst = std::max(worst, end.exit);
+    const std::string message = record["error"].get<std::string>();
+    progress_.item_end(r.item.input, end.exit == 0 ? "ok" : "error", ms, message);
     if (end.exit == 0) {
       ++ok;
     } else {
       ++failed;
-      const std::string message = record["error"].get<std::string>();
       const bool placed = message.find(r.item.input) != std::string::npos;
-      std::fprintf(stderr, "ffdtool: error: %s%s\n", placed ? "" : (r.item.input + ": ").c_str(), message.c_str());
+      progress_.message("ffdtool: error: " + (placed ? std::string() : r.item.input + ": ") + message);
     }
   }
 
   const Plan& plan_;
   ResultsLog& log_;
+  Progress& progress_;
   std::vector<Running> running_;
 };
 
 // The header line: what this process is doing.
-void announce(const Plan& plan, std::size_t skipped) {
+void announce(const Plan& plan, std::size_t skipped, Progress& progress) {
   std::string shard;
   if (plan.shard)
     shard = ", shard " + std::to_string(plan.shard->index) + "/" + std::to_string(plan.shard->count) + " (" +
             plan.shard->source + ")";
-  std::fprintf(stderr, "ffdtool batch: %s meshes%s: %s here (%s done before), %zu at once x %zu threads\n",
-               format_count(plan.total).c_str(), shard.c_str(), format_count(plan.items.size()).c_str(),
-               format_count(skipped).c_str(), plan.jobs, plan.threads);
+  char line[512];
+  std::snprintf(line, sizeof line, "ffdtool batch: %s meshes%s: %s here (%s done before), %zu at once x %zu threads",
+                format_count(plan.total).c_str(), shard.c_str(), format_count(plan.items.size()).c_str(),
+                format_count(skipped).c_str(), plan.jobs, plan.threads);
+  progress.message(line);
+  if (plan.shard)
+    progress.event(JsonEvent("shard").integer("index", static_cast<long long>(plan.shard->index))
+                       .integer("count", static_cast<long long>(plan.shard->count))
+                       .text("source", plan.shard->source));
 }
 
 // Records of earlier batches by input, for --resume.
@@ -260,23 +269,31 @@ int run_batch(const BatchOptions& options) {
     r["ms"] = 0;
     skipped.push_back(std::move(r));
   }
-  announce(plan, skipped.size());
+  Progress progress(options.progress);
+  announce(plan, skipped.size(), progress);
   const bool sharded = plan.shard.has_value();
   ResultsLog log((fs::path(options.output_folder) /
                   results_file_name(sharded, sharded ? plan.shard->index : 0, sharded ? plan.shard->count : 1))
                      .string());
-  for (const ResultRecord& r : skipped) log.append(r);
+  progress.begin(plan.items.size());
+  for (const ResultRecord& r : skipped) {
+    log.append(r);
+    progress.item_end(r["input"].get<std::string>(), "skipped", 0);
+  }
   plan.temp = (fs::path(options.output_folder) / (".ffdtool-batch-" + std::to_string(::getpid()))).string();
   fs::create_directories(plan.temp);
-  ItemPool pool(plan, log);
+  ItemPool pool(plan, log, progress);
   for (std::size_t next = 0; next < todo.size() || !pool.empty();) {
     while (!pool.full() && next < todo.size()) pool.start(todo[next++]);
     if (!pool.reap()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   std::error_code ec;
   fs::remove_all(plan.temp, ec);
-  std::fprintf(stderr, "ffdtool batch: %zu ok, %zu failed, %zu skipped in %.1f s; results in %s\n", pool.ok,
-               pool.failed, skipped.size(), clock.ms() / 1000, log.path().c_str());
+  progress.finish();
+  char line[512];
+  std::snprintf(line, sizeof line, "ffdtool batch: %zu ok, %zu failed, %zu skipped in %.1f s; results in %s", pool.ok,
+                pool.failed, skipped.size(), clock.ms() / 1000, log.path().c_str());
+  progress.message(line);
   return pool.worst;
 }
 

@@ -305,24 +305,43 @@ void bcm_detail(BcmData& data) {
 }
 
 BcmData bcm_precompute(const Mesh& mesh, const std::vector<std::uint32_t>& support,
-                       const std::vector<BcmHandle>& handles, const BcmOptions& options) {
+                       const std::vector<BcmHandle>& handles, const BcmOptions& options,
+                       const std::function<void(double)>& progress) {
+  // Each phase's share of a typical setup's time, in order: regions and rings, operator,
+  // system, factorization, basis, detail (left out without detail).
+  static constexpr double kWeights[] = {0.10, 0.10, 0.15, 0.40, 0.15, 0.10};
+  const int last = options.detail ? 5 : 4;
+  const double total = options.detail ? 1.0 : 1.0 - kWeights[5];
+  double done = 0;
+  const auto phase_done = [&](int phase) {
+    done += kWeights[phase];
+    if (progress) progress(phase == last ? 1.0 : std::min(1.0, done / total));
+  };
   BcmData data;
   bcm_regions_and_rings(data, mesh, support, handles, options);
+  phase_done(0);
   Stopwatch clock;
   const Laplacian laplacian = bcm_operator(data, mesh);
   data.stats.laplacian_ms = clock.ms();
+  phase_done(1);
   clock.restart();
   const KHarmonicSystem system = bcm_system(data, laplacian);
   data.stats.system_ms = clock.ms();
+  phase_done(2);
   clock.restart();
   bcm_factorize(data, system);
   data.stats.factor_ms = clock.ms();
+  phase_done(3);
   clock.restart();
   bcm_basis(data);
   data.stats.basis_ms = clock.ms();
+  phase_done(4);
   clock.restart();
   bcm_detail(data);
-  if (data.options.detail) data.stats.detail_ms = clock.ms();
+  if (data.options.detail) {
+    data.stats.detail_ms = clock.ms();
+    phase_done(5);
+  }
   return data;
 }
 

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -121,9 +122,13 @@ void bcm_basis(BcmData& data);
 void bcm_detail(BcmData& data);
 
 /// Every phase on `mesh`'s current positions. `support` and each handle's vertices are
-/// ascending, duplicate-free vertex lists. Throws what the phases throw.
+/// ascending, duplicate-free vertex lists. `progress`, when set, is called after each
+/// phase with the fraction of the setup done (increasing, 1 after the last phase; each
+/// phase weighs its typical share of the time); it never changes the result. Throws what
+/// the phases throw.
 BcmData bcm_precompute(const Mesh& mesh, const std::vector<std::uint32_t>& support,
-                       const std::vector<BcmHandle>& handles, const BcmOptions& options);
+                       const std::vector<BcmHandle>& handles, const BcmOptions& options,
+                       const std::function<void(double)>& progress = {});
 
 /// Sets handle h's pose relative to setup: x ↦ linear·x + translation.
 void bcm_set_pose(BcmData& data, std::size_t h, const Eigen::Matrix3d& linear, const Eigen::Vector3d& translation);

@@ -68,8 +68,10 @@ private:
 
 class Remesher {
 public:
-  Remesher(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options, RemeshStats& stats)
-      : mesh_(mesh), s_(mesh.storage()), sm_(s_.sm), stack_(stack), options_(options), stats_(stats), p_(sm_) {
+  Remesher(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options, RemeshStats& stats,
+           const std::function<void(double)>& progress)
+      : mesh_(mesh), s_(mesh.storage()), sm_(s_.sm), stack_(stack), options_(options), stats_(stats), p_(sm_),
+        progress_(progress) {
     const double deg = M_PI / 180.0;
     eps_max_ = 1 - std::cos(options.theta_max_deg * deg);
     eps_min_ = 1 - std::cos(options.theta_min_deg * deg);
@@ -117,6 +119,15 @@ private:
   std::array<EdgeIndex, 4> split(EdgeIndex e, Level r);
   void decimate();
   bool try_decimate(VertexIndex m);
+  // Progress: the scan is the first tenth; refinement and decimation share the rest in
+  // proportion to their estimated work (edges queued by the scan, four new ones per
+  // split, against decimation candidates).
+  static constexpr double kScanShare = 0.1;
+  static constexpr std::size_t kReportEvery = 1024;  // loop iterations between reports
+  void report(double fraction) const {
+    if (progress_) progress_(fraction);
+  }
+  void share_after_scan();
   FaceRecord record(FaceIndex f) const;
   void restore_start(FaceIndex f);
   void compact_tables();
@@ -128,6 +139,8 @@ private:
   const RemeshOptions& options_;
   RemeshStats& stats_;
   Properties p_;
+  const std::function<void(double)>& progress_;
+  double refine_share_ = 0;  // of the whole, after the scan
   std::vector<Domain> domains_;
   double l_max_ = 0, eps_max_ = 0, eps_min_ = 0, tan_max_ = 0, tan_min_ = 0;
   std::vector<std::uint8_t> candidate_;  // decimation candidates from the scan
@@ -381,7 +394,10 @@ HalfedgeIndex Remesher::longer_face_edge(HalfedgeIndex h, double len) const {
 }
 
 void Remesher::refine() {
+  std::size_t popped = 0;
   while (!heap_.empty()) {
+    if (progress_ && ++popped % kReportEvery == 0)
+      report(kScanShare + refine_share_ * static_cast<double>(popped) / static_cast<double>(popped + heap_.size()));
     const auto [len, index] = heap_.top();
     heap_.pop();
     const EdgeIndex e(index);
@@ -510,8 +526,21 @@ void Remesher::decimate() {
   std::stable_sort(order.begin(), order.end(), [&](VertexIndex x, VertexIndex y) {
     return p_.vertex_level[x] > p_.vertex_level[y];
   });
-  for (VertexIndex m : order)
-    if (!sm_.is_removed(m) && try_decimate(m)) ++stats_.decimations;
+  const double start = kScanShare + refine_share_;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (progress_ && (k + 1) % kReportEvery == 0)
+      report(start + (1 - start) * static_cast<double>(k) / static_cast<double>(order.size()));
+    if (!sm_.is_removed(order[k]) && try_decimate(order[k])) ++stats_.decimations;
+  }
+}
+
+void Remesher::share_after_scan() {
+  const double refine_work = 4.0 * static_cast<double>(heap_.size());
+  double decimate_work = 0;
+  for (std::uint8_t c : candidate_) decimate_work += c;
+  const double total = refine_work + decimate_work;
+  refine_share_ = (1 - kScanShare) * (total > 0 ? refine_work / total : 0.5);
+  report(kScanShare);
 }
 
 // Drops table entries made by refinement that no corner uses any more; the file's own
@@ -544,7 +573,10 @@ void Remesher::run() {
 
   Stopwatch clock;
   candidate_.assign(sm_.number_of_vertices(), 0);
+  const double edge_count = static_cast<double>(sm_.number_of_edges());
+  std::size_t scanned = 0;
   for (EdgeIndex e : sm_.edges()) {
+    if (progress_ && ++scanned % kReportEvery == 0) report(kScanShare * static_cast<double>(scanned) / edge_count);
     const HalfedgeIndex h = sm_.halfedge(e);
     const double len = length(h);
     ++stats_.edges_tested;
@@ -556,10 +588,12 @@ void Remesher::run() {
     }
   }
   stats_.ms_test = clock.ms();
+  if (progress_) share_after_scan();
 
   clock.restart();
   refine();
   stats_.ms_refine = clock.ms();
+  report(kScanShare + refine_share_);
 
   clock.restart();
   decimate();
@@ -570,6 +604,7 @@ void Remesher::run() {
   if (stats_.refinements || stats_.decimations) mesh_.mark_topology_changed();
   for (VertexIndex v : sm_.vertices()) stats_.highest_level = std::max<int>(stats_.highest_level, p_.vertex_level[v]);
   stats_.faces_after = sm_.number_of_faces();
+  report(1);
 }
 
 }  // namespace
@@ -583,9 +618,10 @@ double smallest_cell_extent(const WarpStack& stack) {
   return best;
 }
 
-RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options) {
+RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options,
+                            const std::function<void(double)>& progress) {
   RemeshStats stats;
-  Remesher(mesh, stack, options, stats).run();
+  Remesher(mesh, stack, options, stats, progress).run();
   return stats;
 }
 

@@ -30,6 +30,7 @@
 // - Deterministic: ties in edge length break by edge index, candidates by vertex index.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -40,10 +41,14 @@
 
 namespace ffd {
 
-/// Refines and decimates `mesh` after a deformation by `stack`'s warps.
+/// Refines and decimates `mesh` after a deformation by `stack`'s warps. `progress`, when
+/// set, is called now and then with an estimate of the fraction done (the edge scan, then
+/// refinement as edges popped over popped plus queued, then decimation candidates
+/// visited; not always monotone) and with 1 at the end; it never changes the result.
 /// \throw InputError about "l_max" if l_max is automatic and no warp on the stack has a feature size
 /// (no lattice).
-RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options);
+RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options,
+                            const std::function<void(double)>& progress = {});
 
 /// The smallest Warp::feature_size() over the stack (a lattice's: box edge length /
 /// cells), or 0 when no warp has one. Gain & Dodgson's Lmax.

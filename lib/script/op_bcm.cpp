@@ -115,7 +115,8 @@ void BcmStep::run(Scene& scene, StepContext& ctx) const {
   const std::vector<std::uint32_t> support_vertices = select_vertices(support, positions);
   std::vector<BcmHandle> picked;
   for (const HandleSpec& handle : handles) picked.push_back({handle.name, select_vertices(handle.select, positions)});
-  auto editor = make_surface_editor(scene.mesh, bcm_precompute(scene.mesh, support_vertices, picked, options));
+  auto editor =
+      make_surface_editor(scene.mesh, bcm_precompute(scene.mesh, support_vertices, picked, options, ctx.progress));
   report(editor->bcm, support_vertices.size(), ctx);
   ctx.stats["baked_lattices"] = baked;
   warn_baked(scene, baked, ctx);

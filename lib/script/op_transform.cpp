@@ -150,13 +150,15 @@ void TransformStep::run(Scene& scene, StepContext& ctx) const {
     Stopwatch clock;
     bcm_pose(target.bcm, scene.mesh.positions());
     update_ms += clock.ms();
-    if (!save) continue;
-    Stopwatch save_clock;
-    refresh_normals(scene, target, fresh);
-    const std::string path = frame_path(*save, i);
-    bytes += stage_mesh(scene, path);
-    saved.push_back(path);
-    save_ms += save_clock.ms();
+    if (save) {
+      Stopwatch save_clock;
+      refresh_normals(scene, target, fresh);
+      const std::string path = frame_path(*save, i);
+      bytes += stage_mesh(scene, path);
+      saved.push_back(path);
+      save_ms += save_clock.ms();
+    }
+    if (ctx.progress) ctx.progress(static_cast<double>(i + 1) / static_cast<double>(poses.size()));  // frame i of n
   }
   if (!save) refresh_normals(scene, target, fresh);
   // No warp is left (the stack was baked), so the edit is the rest state too.

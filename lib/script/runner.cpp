@@ -79,17 +79,28 @@ nlohmann::ordered_json input_stats(const RunOptions& options, const Mesh& mesh, 
   return stats;
 }
 
-// Runs every step in order; returns their stats.
-nlohmann::ordered_json run_steps(const Script& script, Scene& scene, bool quiet) {
+// Runs every step in order, reporting to a progress reporter of `options.progress`;
+// returns their stats.
+nlohmann::ordered_json run_steps(const Script& script, Scene& scene, const RunOptions& options) {
+  const bool quiet = options.quiet;
+  Progress progress(quiet && options.progress == ProgressMode::Auto ? ProgressMode::None : options.progress);
   nlohmann::ordered_json steps = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < script.steps.size(); ++i) {
     const Step& step = *script.steps[i];
     StepContext ctx;
     ctx.pointer = step.pointer;
+    ctx.progress = progress.step_callback();
     const std::size_t warnings_before = scene.warnings.size();
+    progress.step_start(i, script.steps.size(), step.op->name());
     Stopwatch clock;
-    run_step(script, step, scene, ctx);
+    try {
+      run_step(script, step, scene, ctx);
+    } catch (...) {
+      progress.step_end(clock.ms(), false);
+      throw;
+    }
     const double ms = clock.ms();
+    progress.step_end(ms);  // clears a terminal's line before the step's own line
     nlohmann::ordered_json entry = {{"index", i}, {"op", step.op->name()}, {"ms", ms},
                                     {"vertices", scene.mesh.num_vertices()}, {"faces", scene.mesh.num_faces()}};
     entry.update(ctx.stats);
@@ -144,7 +155,7 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
     std::fprintf(stderr, "ffdtool: %s: %s vertices, %s faces (read in %s)\n", options.mesh.c_str(),
                  format_count(scene.mesh.num_vertices()).c_str(), format_count(scene.mesh.num_faces()).c_str(),
                  ms_text(stats["input"]["read_ms"].get<double>()).c_str());
-  stats["steps"] = run_steps(script, scene, options.quiet);
+  stats["steps"] = run_steps(script, scene, options);
 
   Stopwatch write_clock;
   stage_mesh_at(scene, options.output, scene.write_options());

@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/progress.h"
+
 namespace ffd {
 
 struct RunOptions {
@@ -15,6 +17,9 @@ struct RunOptions {
   std::string stats;   // stats JSON file, or empty
   bool quiet = false;  // no per-step lines on stderr
   int threads = 0;     // 0: OpenMP's default
+  /// Progress of the steps on stderr (common/progress.h): Auto is a live line when stderr
+  /// is a terminal, and nothing when it is not or when `quiet`; Json is step events.
+  ProgressMode progress = ProgressMode::None;
 };
 
 /// Checks everything that can be checked first (script, output paths, input files), then

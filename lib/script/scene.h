@@ -1,6 +1,7 @@
 // Scene: what a script's steps act on (DESIGN.md "the data as it flows").
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -43,11 +44,16 @@ struct Scene {
   Lattice& lattice(const std::string& name);
 };
 
-/// What one step reports: its JSON stats object (op-specific counts) and a summary line.
+/// What one step reports: its JSON stats object (op-specific counts) and a summary line;
+/// and where it reports how far it is.
 struct StepContext {
   std::string pointer;  // "/steps/3", for warnings
   nlohmann::ordered_json stats = nlohmann::ordered_json::object();
   std::string summary;
+  /// The fraction of the step done, in [0, 1], for a step long enough to want it: an op
+  /// forwards it to its algorithm's progress parameter. Empty when nobody listens (test
+  /// before calling); calling it never changes what the step computes.
+  std::function<void(double)> progress;
 };
 
 }  // namespace ffd
