@@ -1,5 +1,6 @@
 #include "batch/batch.h"
 
+#include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -38,6 +39,15 @@ struct Plan {
   std::string temp;                // the children's stats and stderr
 };
 
+// The cores this process may run on (its CPU affinity: what Slurm or taskset gave it),
+// not the machine's.
+std::size_t available_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (::sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return static_cast<std::size_t>(CPU_COUNT(&set));
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
 Plan plan_batch(const BatchOptions& options) {
   Plan plan;
   plan.options = options;
@@ -52,7 +62,7 @@ Plan plan_batch(const BatchOptions& options) {
   plan.total = all.size();
   plan.shard = options.shard ? options.shard : shard_from_environment();
   plan.items = plan.shard ? shard_items(all, *plan.shard) : all;
-  const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t cores = available_cores();
   plan.jobs = options.jobs ? options.jobs : cores;
   const std::size_t running = std::max<std::size_t>(1, std::min(plan.jobs, plan.items.size()));
   plan.threads = std::max<std::size_t>(1, cores / running);  // the cores shared by the meshes at once
