@@ -24,7 +24,7 @@
 # 6), SLURM_TEST_KEEP=1 keeps the temporary folder (logs, outputs) for a post-mortem.
 # Exit 0 when every check passed; the last line is `slurm_test: N passed, M failed`.
 set -uo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/.." || exit 1
 repo="$(pwd)"
 
 ffdtool="${FFDTOOL:-build/apps/ffdtool/ffdtool}"
@@ -60,6 +60,19 @@ show_logs() {
 }
 
 alive() { [ -n "$1" ] && kill -0 "$1" 2>/dev/null; }
+
+# Runs a long command in the background and waits for it, so that a signal to this script
+# runs its trap at once (bash defers traps until a foreground child returns).
+child=""
+run_bg() {
+  local rc
+  "$@" &
+  child=$!
+  wait "$child"
+  rc=$?
+  child=""
+  return "$rc"
+}
 
 # Sends TERM to one recorded PID, waits up to 10 s, then KILL. $2 names the process, and the
 # PID is signalled only while /proc says it is still that program (PIDs are reused).
@@ -119,7 +132,9 @@ remove_policy_rc() {
 finish() {
   local rc=$?
   trap - EXIT INT TERM
+  exec 1>&7 2>&8   # a signal may come while a command's output is redirected
   remove_policy_rc
+  if alive "$child"; then kill -TERM "$child" 2>/dev/null; wait "$child" 2>/dev/null; fi
   if [ -n "$munged_pid$slurmctld_pid$slurmd_pid" ]; then
     [ "$failed" -gt 0 ] && show_logs
     stop_cluster
@@ -137,12 +152,17 @@ finish() {
   [ "$failed" -eq 0 ] && exit 0
   exit 1
 }
+exec 7>&1 8>&2
 trap finish EXIT
-trap 'echo "slurm_test: interrupted"; exit 130' INT TERM
+trap 'exec 1>&7 2>&8; fail "interrupted by a signal"; exit 130' INT TERM
 
 # ---------------------------------------------------------------------------------------
 say "ffdtool: $ffdtool"
 [ -x "$ffdtool" ] || die "no ffdtool binary at $ffdtool (run scripts/build.sh, or set FFDTOOL)"
+for c in batch report; do
+  "$ffdtool" "$c" --help 2>&1 | grep -q "Usage: .*ffdtool $c" \
+    || die "$ffdtool has no '$c' command ('ffdtool $c --help' shows no usage of it)"
+done
 [ "$(id -u)" -eq 0 ] || die "must run as root (slurmd and slurmctld run as root here; munged as munge)"
 command -v python3 >/dev/null || die "python3 is needed to read the results files (scripts/setup.sh installs it)"
 
@@ -175,7 +195,7 @@ for c in munged munge unmunge slurmctld slurmd sbatch sinfo squeue scancel; do
   command -v "$c" >/dev/null || die "$c not found after installing ${packages[*]}"
 done
 id munge >/dev/null 2>&1 || die "no munge user (the munge package creates it)"
-say "$(slurmctld -V), munge $(munged --version 2>&1 | awk '{print $2; exit}')"
+say "$(slurmctld -V), $(munged --version 2>&1 | head -n 1)"
 
 # 2. Munge key and daemon ------------------------------------------------------------------
 key=/etc/munge/munge.key
@@ -198,7 +218,7 @@ install -d -o munge -g munge -m 0755 "$tmp/munge"
 [ "$(stat -c %U "$tmp/munge")" = munge ] || die "$tmp/munge is not owned by munge"
 socket="$tmp/munge/munge.socket"
 
-runuser -u munge -- munged --force \
+runuser -u munge -- munged --force 7>&- 8>&- \
   --key-file="$key" --socket="$socket" --pid-file="$tmp/munge/munged.pid" \
   --log-file="$tmp/munge/munged.log" --seed-file="$tmp/munge/munged.seed" \
   || die "munged did not start (see $tmp/munge/munged.log)"
@@ -263,7 +283,7 @@ NodeName=$host NodeAddr=127.0.0.1 $node_hw State=UNKNOWN
 PartitionName=test Nodes=$host Default=YES MaxTime=INFINITE State=UP
 EOF
 
-slurmctld -D -i -f "$SLURM_CONF" > "$tmp/log/slurmctld.out" 2>&1 &
+slurmctld -D -i -f "$SLURM_CONF" > "$tmp/log/slurmctld.out" 2>&1 7>&- 8>&- &
 slurmctld_pid=$!
 cluster_up=1
 for i in $(seq 1 100); do
@@ -272,7 +292,7 @@ for i in $(seq 1 100); do
   sleep 0.2
 done
 alive "$slurmctld_pid" || { cat "$tmp/log/slurmctld.out"; die "slurmctld exited at start"; }
-slurmd -D -N "$host" -f "$SLURM_CONF" > "$tmp/log/slurmd.out" 2>&1 &
+slurmd -D -N "$host" -f "$SLURM_CONF" > "$tmp/log/slurmd.out" 2>&1 7>&- 8>&- &
 slurmd_pid=$!
 
 state=""
@@ -372,13 +392,13 @@ say "$n_items meshes: $(ls "$tmp/meshes" | tr '\n' ' ')"
 
 # 5. The same batch locally, without Slurm ----------------------------------------------------
 no_slurm=(env -u SLURM_ARRAY_TASK_ID -u SLURM_ARRAY_TASK_COUNT -u SLURM_ARRAY_JOB_ID -u SLURM_JOB_ID -u JOB_COMPLETION_INDEX)
-if "${no_slurm[@]}" "$ffdtool" batch "$tmp/deform.json" "$tmp/meshes" -o "$tmp/local" \
+if run_bg "${no_slurm[@]}" "$ffdtool" batch "$tmp/deform.json" "$tmp/meshes" -o "$tmp/local" \
      > "$tmp/log/local.out" 2> "$tmp/log/local.err"; then
   pass "local batch (no Slurm) exit 0"
 else
   fail "local batch exit $? ($(tail -n 3 "$tmp/log/local.err" | tr '\n' ' '))"
 fi
-[ -s "$tmp/local/results.jsonl" ] && pass "local batch wrote results.jsonl" || fail "local batch wrote no results.jsonl"
+if [ -s "$tmp/local/results.jsonl" ]; then pass "local batch wrote results.jsonl"; else fail "local batch wrote no results.jsonl"; fi
 
 # 6. The array job ---------------------------------------------------------------------------
 cat > "$tmp/task.sh" <<EOF
@@ -388,15 +408,15 @@ exec "$ffdtool" batch "$tmp/deform.json" "$tmp/meshes" -o "$tmp/slurm" --jobs "\
 EOF
 chmod +x "$tmp/task.sh"
 t0="$(date +%s.%N)"
-if timeout "$sbatch_timeout" sbatch --array=0-$((shards - 1)) --wait --parsable --job-name=ffd-batch \
+if run_bg timeout "$sbatch_timeout" sbatch --array=0-$((shards - 1)) --wait --parsable --job-name=ffd-batch \
      --cpus-per-task=1 --time=10 --chdir="$tmp" \
      --output="$tmp/log/task-%a.out" --error="$tmp/log/task-%a.err" "$tmp/task.sh" > "$tmp/log/sbatch.out" 2>&1; then
   t1="$(date +%s.%N)"
   pass "sbatch --array=0-$((shards - 1)) --wait of ffdtool batch: job $(head -n 1 "$tmp/log/sbatch.out"), every task exit 0 ($(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.1f", b - a }') s)"
 else
   rc=$?
-  [ "$rc" -eq 124 ] && fail "sbatch --wait did not return within $sbatch_timeout s" \
-                    || fail "sbatch --wait exit $rc: $(tr '\n' ' ' < "$tmp/log/sbatch.out")"
+  if [ "$rc" -eq 124 ]; then fail "sbatch --wait did not return within $sbatch_timeout s"
+  else fail "sbatch --wait exit $rc (a task failed; sbatch said: $(tr '\n' ' ' < "$tmp/log/sbatch.out"))"; fi
   squeue 2>&1 | sed 's/^/    /'
 fi
 
@@ -411,7 +431,7 @@ for i in $(seq 0 $((shards - 1))); do
 done
 
 # 7. Results files: exactly N shard files, disjoint shards covering every item ----------------
-shard_files=("$tmp"/slurm/results-*-of-$shards.jsonl)
+shard_files=("$tmp"/slurm/results-*-of-"$shards".jsonl)
 n_files=0; for f in "${shard_files[@]}"; do [ -f "$f" ] && n_files=$((n_files + 1)); done
 others="$(cd "$tmp/slurm" 2>/dev/null && ls results*.jsonl 2>/dev/null | grep -v -E "^results-[0-9]+-of-$shards\.jsonl$")"
 if [ "$n_files" -eq "$shards" ] && [ -z "$others" ] \
@@ -425,6 +445,8 @@ if python3 - "$tmp/slurm" "$tmp/local/results.jsonl" "$shards" <<'EOF'
 import json, os, sys
 slurm, local, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
 def rows(path):
+    if not os.path.exists(path):
+        return []
     with open(path) as f:
         return [json.loads(l) for l in f if l.strip()]
 problems = []
@@ -483,8 +505,8 @@ else
   diff "$tmp/slurm.files" "$tmp/local.files" | sed 's/^/    /' | head -n 20
 fi
 saves="$(grep -c '/widened.obj$' "$tmp/slurm.files")"
-[ "$saves" -eq "$n_items" ] && pass "every item's save file is in OUTDIR/name/ ($saves)" \
-                              || fail "$saves save files for $n_items items"
+if [ "$saves" -eq "$n_items" ]; then pass "every item's save file is in OUTDIR/name/ ($saves)"
+else fail "$saves save files for $n_items items"; fi
 
 if "$ffdtool" report "$tmp/slurm" > "$tmp/log/report.out" 2>&1; then
   pass "ffdtool report merges the shards' results (exit 0)"
@@ -494,17 +516,17 @@ fi
 
 # 9. Slurm's per-task overhead: an array of no-op tasks that write timestamps -------------------
 t0="$(date +%s.%N)"
-if timeout "$sbatch_timeout" sbatch --array=0-$((overhead_tasks - 1)) --wait --parsable --job-name=ffd-noop \
+if run_bg timeout "$sbatch_timeout" sbatch --array=0-$((overhead_tasks - 1)) --wait --parsable --job-name=ffd-noop \
      --cpus-per-task=1 --time=1 --chdir="$tmp" --output=/dev/null \
      --wrap="date +%s.%N > $tmp/ts/start-\$SLURM_ARRAY_TASK_ID; /bin/true; date +%s.%N > $tmp/ts/end-\$SLURM_ARRAY_TASK_ID" \
      > "$tmp/log/sbatch-noop.out" 2>&1; then
   t1="$(date +%s.%N)"
-  n_ts="$(ls "$tmp/ts" | grep -c '^end-')"
+  n_ts="$(find "$tmp/ts" -name "end-*" | wc -l)"
   if [ "$n_ts" -eq "$overhead_tasks" ]; then
     cpus="$(nproc)"
     read -r first last <<<"$(cat "$tmp"/ts/start-* | sort -n | head -n 1) $(cat "$tmp"/ts/end-* | sort -n | tail -n 1)"
     awk -v t0="$t0" -v t1="$t1" -v a="$first" -v b="$last" -v n="$overhead_tasks" -v c="$cpus" 'BEGIN {
-      printf "slurm: %d no-op tasks on %d cpus: first started %.2f s after submission, last ended %.2f s after; sbatch --wait returned after %.2f s (%.2f s per task; --wait polls)\n", n, c, a - t0, b - t0, t1 - t0, (t1 - t0) / n
+      printf "slurm: %d no-op tasks, %d at a time: first started %.2f s after submission, last ended %.2f s after (that / tasks: the overhead below); sbatch --wait returned after %.2f s (%.2f s per task; --wait polls)\n", n, c, a - t0, b - t0, t1 - t0, (t1 - t0) / n
       printf "slurm: per-task overhead %.2f s\n", (b - t0) / n }'
     pass "no-op array of $overhead_tasks tasks timed"
   else
