@@ -10,11 +10,12 @@
 #    systemd, with a slurm.conf of its own in a temporary folder: one node (this host's
 #    short name, all its cores), no cgroups, no accounting, its own munge socket and its
 #    own ports, so a cluster or munged already on the machine is neither used nor touched.
-# 3. Waits for the node to be idle, submits `sbatch --array=0-2 --wait` of `ffdtool batch`
-#    (no --shard: each task takes its shard from SLURM_ARRAY_TASK_ID/COUNT) over a folder
-#    of small meshes, runs the same batch locally without Slurm, and checks that the three
-#    shards' files equal the local batch's (cmp), that there are exactly three
-#    results-I-of-3.jsonl and that the shards' items are disjoint and cover all.
+# 3. Waits for the node to be idle and submits `sbatch --array=0-2 --wait` of the users'
+#    example, scripts/slurm/batch.sbatch: `ffdtool batch` with no --shard (each task takes
+#    its shard from SLURM_ARRAY_TASK_ID/COUNT) over a folder of small meshes. Runs the same
+#    batch locally without Slurm, and checks that the three shards' files equal the local
+#    batch's (cmp), that there are exactly three results-I-of-3.jsonl and that the shards'
+#    items are disjoint and cover all.
 # 4. Times an array of no-op tasks: prints `slurm: per-task overhead X s`.
 # 5. Stops only the daemons it started (by their recorded PIDs) and removes its folder.
 #
@@ -138,6 +139,7 @@ finish() {
   if [ -n "$munged_pid$slurmctld_pid$slurmd_pid" ]; then
     [ "$failed" -gt 0 ] && show_logs
     stop_cluster
+    if [ -n "$tmp" ] && [ -d "$tmp" ] && [ "${SLURM_TEST_KEEP:-}" != 1 ]; then rm -rf "$tmp"; fi
     if [ -z "${left// /}" ]; then
       pass "stopped the daemons this test started (pids: ${munged_pid:-} ${slurmctld_pid:-} ${slurmd_pid:-})"
     else
@@ -153,6 +155,7 @@ finish() {
   exit 1
 }
 exec 7>&1 8>&2
+trap '' PIPE   # a reader that goes away (| head) must not kill us before the cleanup
 trap finish EXIT
 trap 'exec 1>&7 2>&8; fail "interrupted by a signal"; exit 130' INT TERM
 
@@ -400,19 +403,15 @@ else
 fi
 if [ -s "$tmp/local/results.jsonl" ]; then pass "local batch wrote results.jsonl"; else fail "local batch wrote no results.jsonl"; fi
 
-# 6. The array job ---------------------------------------------------------------------------
-cat > "$tmp/task.sh" <<EOF
-#!/bin/bash
-# One array task: ffdtool takes its shard from SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT.
-exec "$ffdtool" batch "$tmp/deform.json" "$tmp/meshes" -o "$tmp/slurm" --jobs "\${SLURM_CPUS_PER_TASK:-1}"
-EOF
-chmod +x "$tmp/task.sh"
+# 6. The array job: the example users get, scripts/slurm/batch.sbatch, with the
+# command line's options over its #SBATCH lines (3 tasks of 1 CPU here) -----------------------
 t0="$(date +%s.%N)"
 if run_bg timeout "$sbatch_timeout" sbatch --array=0-$((shards - 1)) --wait --parsable --job-name=ffd-batch \
      --cpus-per-task=1 --time=10 --chdir="$tmp" \
-     --output="$tmp/log/task-%a.out" --error="$tmp/log/task-%a.err" "$tmp/task.sh" > "$tmp/log/sbatch.out" 2>&1; then
+     --export="ALL,FFDTOOL=$ffdtool,FFD_SCRIPT=$tmp/deform.json,FFD_INPUT=$tmp/meshes,FFD_OUT=$tmp/slurm" \
+     --output="$tmp/log/task-%a.out" --error="$tmp/log/task-%a.err" scripts/slurm/batch.sbatch > "$tmp/log/sbatch.out" 2>&1; then
   t1="$(date +%s.%N)"
-  pass "sbatch --array=0-$((shards - 1)) --wait of ffdtool batch: job $(head -n 1 "$tmp/log/sbatch.out"), every task exit 0 ($(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.1f", b - a }') s)"
+  pass "sbatch --array=0-$((shards - 1)) --wait scripts/slurm/batch.sbatch (ffdtool batch, no --shard): job $(head -n 1 "$tmp/log/sbatch.out"), every task exit 0 ($(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.1f", b - a }') s)"
 else
   rc=$?
   if [ "$rc" -eq 124 ]; then fail "sbatch --wait did not return within $sbatch_timeout s"
