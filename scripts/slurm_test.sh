@@ -163,7 +163,7 @@ trap 'exec 1>&7 2>&8; fail "interrupted by a signal"; exit 130' INT TERM
 say "ffdtool: $ffdtool"
 [ -x "$ffdtool" ] || die "no ffdtool binary at $ffdtool (run scripts/build.sh, or set FFDTOOL)"
 for c in batch report; do
-  "$ffdtool" "$c" --help 2>&1 | grep -q "Usage: .*ffdtool $c" \
+  "$ffdtool" "$c" --help 2>&1 | grep -Eq "^Usage: [^ ]+ $c( |\$)" \
     || die "$ffdtool has no '$c' command ('ffdtool $c --help' shows no usage of it)"
 done
 [ "$(id -u)" -eq 0 ] || die "must run as root (slurmd and slurmctld run as root here; munged as munge)"
