@@ -31,7 +31,7 @@ SOURCE_SUFFIXES = (".cpp", ".cc", ".cxx", ".h", ".hpp")
 SCAN_DIRS = ("lib", "apps")  # every rule's folders lie inside these
 FUNCTION_DIRS = ("lib", "apps")
 NLOHMANN_DIRS = ("lib",)
-NLOHMANN_EXEMPT = ("lib/script", "lib/batch")  # the layers that speak JSON: scripts, results logs
+NLOHMANN_EXEMPT = ("lib/script",)
 POINTER_DIRS = ("lib/common", "lib/mesh", "lib/warp", "lib/remesh", "lib/bcm", "lib/multires")
 FILESYSTEM_PREFIXES = ("/proc/", "/dev/", "/tmp/", "/usr/", "/etc/", "/sys/", "/var/", "/opt/", "/home/")
 

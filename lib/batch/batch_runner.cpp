@@ -14,7 +14,7 @@
 #include <thread>
 
 #include "batch/child_process.h"
-#include "batch/results_log.h"
+#include "script/results_log.h"
 #include "batch/sha256.h"
 #include "common/errors.h"
 #include "common/numbers.h"
@@ -267,11 +267,11 @@ int run_batch(const BatchOptions& options) {
   Stopwatch clock;
   Plan plan = plan_batch(options);
   const std::map<std::string, ResultRecord> earlier = earlier_records(plan);
-  std::vector<BatchItem> todo;
+  std::vector<BatchItem> pending;
   std::vector<ResultRecord> skipped;
   for (const BatchItem& item : plan.items) {
     if (!done_before(plan, item, earlier)) {
-      todo.push_back(item);
+      pending.push_back(item);
       continue;
     }
     ResultRecord r = earlier.at(item.input);
@@ -293,8 +293,8 @@ int run_batch(const BatchOptions& options) {
   plan.temp = (fs::path(options.output_folder) / (".ffdtool-batch-" + std::to_string(::getpid()))).string();
   fs::create_directories(plan.temp);
   ItemPool pool(plan, log, progress);
-  for (std::size_t next = 0; next < todo.size() || !pool.empty();) {
-    while (!pool.full() && next < todo.size()) pool.start(todo[next++]);
+  for (std::size_t next = 0; next < pending.size() || !pool.empty();) {
+    while (!pool.full() && next < pending.size()) pool.start(pending[next++]);
     if (!pool.reap()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   std::error_code ec;

@@ -1,9 +1,9 @@
-#include "batch/batch_report.h"
+#include "script/batch_report.h"
 
 #include <algorithm>
 #include <cstdio>
 
-#include "batch/results_log.h"
+#include "script/results_log.h"
 #include "common/errors.h"
 #include "common/numbers.h"
 
