@@ -41,7 +41,7 @@ std::size_t utf8_sequence(const std::string& text, std::size_t i) {
 // The escape of an ASCII byte inside a JSON string, or "" if it stands for itself.
 std::string ascii_escape(unsigned char c) {
   switch (c) {
-    case '"': return "\\\"";
+    case 0x22: return "\\\"";  // the double quote (a number: simple source readers trip on its literal)
     case '\\': return "\\\\";
     case '\b': return "\\b";
     case '\f': return "\\f";
