@@ -209,6 +209,17 @@ TEST(Batch, AMeshPastTheMemoryLimitFailsAlone) {
   EXPECT_FALSE(fs::exists(dir + "/out/big.obj"));
 }
 
+// An output folder inside the input folder: a second (recursive) batch does not take the
+// first one's outputs for inputs.
+TEST(Batch, ItsOwnOutputsAreNotInputs) {
+  const std::string dir = mesh_folder("batch_inside", false);
+  const std::string args = quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/in/out") + " --recursive";
+  ASSERT_EQ(batch(args), 0);
+  ASSERT_EQ(batch(args), 0);
+  EXPECT_EQ(results(dir + "/in/out/results.jsonl").size(), 8u);
+  EXPECT_FALSE(fs::exists(dir + "/in/out/out"));
+}
+
 TEST(Batch, BadInputsAreRefusedBeforeAnyWork) {
   const std::string dir = mesh_folder("batch_bad", false);
   fs::create_directories(dir + "/other");

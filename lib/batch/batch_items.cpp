@@ -62,8 +62,16 @@ void expand_input(const std::string& input, bool recursive, std::vector<std::str
 
 std::vector<BatchItem> batch_items(const std::vector<std::string>& inputs, bool recursive,
                                    const std::string& output_folder, const std::string& format) {
-  std::vector<std::string> files;
-  for (const std::string& input : inputs) expand_input(input, recursive, files);
+  std::vector<std::string> found, files;
+  for (const std::string& input : inputs) expand_input(input, recursive, found);
+  // Not the batch's own outputs, when the output folder lies inside an input folder.
+  std::error_code ec;
+  const fs::path out = fs::weakly_canonical(output_folder, ec);
+  for (const std::string& file : found) {
+    const fs::path parent = fs::weakly_canonical(file, ec).parent_path();
+    const auto [o, p] = std::mismatch(out.begin(), out.end(), parent.begin(), parent.end());
+    if (o != out.end()) files.push_back(file);
+  }
   std::sort(files.begin(), files.end());
   if (files.empty()) throw InputError("no mesh file among the inputs");
   std::map<std::string, std::string> by_name;

@@ -20,7 +20,8 @@ struct BatchItem {
 
 /// The meshes the INPUT arguments name: files, folders (their files with a mesh
 /// extension; with `recursive`, their subfolders' too) and @lists (one path a line, as
-/// written: relative to the working folder), sorted by path, each written to
+/// written: relative to the working folder), sorted by path, leaving out files inside
+/// `output_folder` (a batch's own outputs, when it writes inside an input folder), each written to
 /// `output_folder`/name.ext (`format`: the extension, or "" to keep the input's).
 /// \throw InputError for a missing input, a file without a mesh extension, two inputs
 /// with the same stem, an output that would overwrite an input, or no mesh at all.

@@ -290,7 +290,8 @@ int run_batch(const BatchOptions& options) {
     log.append(r);
     progress.item_end(r["input"].get<std::string>(), "skipped", 0);
   }
-  plan.temp = (fs::path(options.output_folder) / (".ffdtool-batch-" + std::to_string(::getpid()))).string();
+  // The children's stats and stderr: node-local, per process, never in the output folder.
+  plan.temp = (fs::temp_directory_path() / ("ffdtool-batch-" + std::to_string(::getpid()))).string();
   fs::create_directories(plan.temp);
   ItemPool pool(plan, log, progress);
   for (std::size_t next = 0; next < pending.size() || !pool.empty();) {
