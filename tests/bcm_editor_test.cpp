@@ -1,5 +1,6 @@
-// BcmEditor against an independent direct solve of Δ^k p = 0 (eq. 5), the precomputed
-// basis (eq. 6) for random 9-dof poses, multiple handles, and a valid mesh throughout.
+// The BCM editor (bcm_precompute / bcm_pose) against an independent direct solve of
+// Δ^k p = 0 (eq. 5), the precomputed basis (eq. 6) for random 9-dof poses, multiple
+// handles, and a valid mesh throughout.
 #include <gtest/gtest.h>
 
 #include <algorithm>
