@@ -378,10 +378,16 @@ TEST(ReaderMutations, EveryMutationIsReadOrRefusedWithInputError) {
   run_mutations(tetra_ascii_stl(), stl, 4, n, tally);
   run_mutations(tetra_binary_stl(), stl, 5, n, tally);
   run_mutations(tetra_binary_stl({}, "binary, no solid"), stl, 6, n, tally);
+  // And a few on ffdtool's own output of the bunny, a real-size file.
+  const std::string dir = test::temp_folder("mutations");
+  write_mesh(dir + "/bunny.ply", test::bunny());
+  write_mesh(dir + "/bunny.stl", test::bunny());
+  run_mutations(test::read_file(dir + "/bunny.ply"), ply, 7, 100, tally);
+  run_mutations(test::read_file(dir + "/bunny.stl"), stl, 8, 100, tally);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("mutations: %zu runs, %zu read, %zu refused, %.2f s\n", tally.runs, tally.accepted, tally.refused,
               seconds);
-  EXPECT_EQ(tally.runs, 6u * n);
+  EXPECT_EQ(tally.runs, 6u * n + 200);
   EXPECT_GT(tally.refused, tally.runs / 4);  // the mutations do break files
   EXPECT_LT(seconds, 10.0);
 }
@@ -424,6 +430,8 @@ TEST(PlyReader, ErrorsNameTheFileAndThePlace) {
   // Indices, coordinates, truncation.
   expect_input_error(read(binary_triangle(0, 99)), "f.ply: face 0: ",
                      {"vertex index 99 is out of range (the file has 3 vertices)"});
+  expect_input_error(read(binary_triangle(0, 2, 2).substr(0, binary_triangle().size() - 4)), "f.ply: face 0: ",
+                     {"a face needs at least 3 vertices, found 2"});
   expect_input_error(read(binary_triangle(0, -1)), "f.ply: face 0: ", {"vertex index -1 is out of range"});
   expect_input_error(read(header("ascii", "3", "1") + "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), "f.ply:13: face 0: ",
                      {"vertex index 3 is out of range"});

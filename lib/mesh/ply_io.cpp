@@ -295,12 +295,12 @@ private:
       ++pos_;
     }
     const std::string_view token = bytes_.substr(start, pos_ - start);
-    const std::string name = property_ ? property_->name + " " : std::string();
+    const auto name = [this] { return property_ ? property_->name + " " : std::string(); };
     if (is_integer(t)) {
       long long v, lo, hi;
       integer_range(t, lo, hi);
       if (!parse_integer(token, v) || v < lo || v > hi)
-        fail(name + "'" + std::string(token) + "' is not an integer in " + std::to_string(lo) + ".." +
+        fail(name() + "'" + std::string(token) + "' is not an integer in " + std::to_string(lo) + ".." +
              std::to_string(hi));
       return static_cast<double>(v);
     }
@@ -316,8 +316,8 @@ private:
     } else {
       r = std::from_chars(first, last, value);
     }
-    if (r.ec == std::errc::result_out_of_range) fail(name + "'" + std::string(token) + "' is not a finite number");
-    if (r.ec != std::errc() || r.ptr != last) fail(name + "'" + std::string(token) + "' is not a number");
+    if (r.ec == std::errc::result_out_of_range) fail(name() + "'" + std::string(token) + "' is not a finite number");
+    if (r.ec != std::errc() || r.ptr != last) fail(name() + "'" + std::string(token) + "' is not a number");
     return value;
   }
 
@@ -416,7 +416,11 @@ void read_vertices(Cursor& cur, const Element& e, const VertexLayout& layout, Po
 }
 
 void read_faces(Cursor& cur, const Element& e, std::uint64_t vertices, const VertexLayout& layout, PolygonSoup& soup) {
-  soup.faces.reserve(e.count);
+  // A face takes at least three indices, so no more faces than this fit in the bytes left.
+  std::uint64_t per_face = e.min_bytes(cur.ascii() ? Format::Ascii : Format::BinaryLittle);
+  for (const Property& p : e.properties)
+    if (p.indices) per_face += cur.ascii() ? 6 : 3 * type_size(p.type);
+  soup.faces.reserve(std::min<std::uint64_t>(e.count, cur.left() / per_face + 1));
   for (std::uint64_t i = 0; i < e.count; ++i) {
     cur.at(&e, i);
     SoupFace face;
@@ -437,6 +441,8 @@ void read_faces(Cursor& cur, const Element& e, std::uint64_t vertices, const Ver
                    std::to_string(vertices) + " vertices)");
         face.vertices.push_back(static_cast<std::uint32_t>(x));
       }
+      // Checked here, not only in build_mesh: it bounds the memory a face takes per byte.
+      if (p.indices && n < 3) cur.fail("a face needs at least 3 vertices, found " + std::to_string(n));
     }
     if (layout.normals()) face.normals.assign(face.vertices.begin(), face.vertices.end());
     if (layout.uvs()) face.uvs.assign(face.vertices.begin(), face.vertices.end());
