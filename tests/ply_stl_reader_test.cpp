@@ -173,6 +173,23 @@ TEST(PlyReader, ReadsEveryPropertyItKeeps) {
   EXPECT_EQ(soup.vertex_lines[0], 24u);
 }
 
+TEST(PlyReader, ReadsFloatColoursAsTheyAreAndTheOtherTextureNames) {
+  const std::string text =
+      "ply\r\nformat ascii 1.0\r\nobj_info x\r\nelement vertex 3\r\nproperty double x\r\nproperty double y\r\n"
+      "property double z\r\nproperty float red\r\nproperty float green\r\nproperty float blue\r\n"
+      "property float alpha\r\nproperty double s\r\nproperty double t\r\nelement face 1\r\n"
+      "property list int8 int16 vertex_index\r\nend_header\r\n"
+      "0 0 0 0.5 0.25 1 1 0.125 0.75\r\n1 0 0 0 0 0 1 0 0\r\n0 1 0 1 1 1 0 1 1\r\n3 0 1 2\r\n";
+  const PolygonSoup soup = read_ply(text, "c.ply");
+  ASSERT_EQ(soup.colors.size(), 3u);
+  EXPECT_TRUE(soup.colors[0] == Eigen::Vector3f(0.5f, 0.25f, 1.0f));
+  ASSERT_EQ(soup.uvs.size(), 3u);
+  EXPECT_TRUE(soup.uvs[0] == Eigen::Vector2d(0.125, 0.75));
+  EXPECT_TRUE(soup.normals.empty());
+  EXPECT_EQ(soup.faces[0].uvs, (std::vector<std::int32_t>{0, 1, 2}));
+  EXPECT_EQ(soup.faces[0].line, 20u);
+}
+
 TEST(PlyReader, BinaryInBothEndiannessesEqualsAscii) {
   const PolygonSoup ascii = read_ply(tetra_ply("ascii"), "t.ply");
   for (const char* format : {"binary_little_endian", "binary_big_endian"}) {
@@ -419,6 +436,8 @@ TEST(PlyReader, ErrorsNameTheFileAndThePlace) {
   expect_input_error(read("ply\nformat ascii 1.0\nproperty float x\nend_header\n"), "f.ply:3: ", {"before any element"});
   expect_input_error(read("ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\n"), "f.ply:4: ", {"'quad'"});
   expect_input_error(read(header("ascii", "0", "0")), "f.ply: the file has no vertex");
+  expect_input_error(read(header("ascii", "18446744073709551616", "0")), "f.ply:3: ", {"element NAME COUNT"});
+  expect_input_error(read(header("ascii", "-3", "0")), "f.ply:3: ", {"count of 0 or more"});
   expect_input_error(read("ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n"),
                      "f.ply: the file has no vertex");
   // Huge counts against a small file.
