@@ -10,7 +10,9 @@
 #include "mesh/build_mesh.h"
 #include "mesh/mesh_storage.h"
 #include "mesh/off_io.h"
+#include "mesh/ply_io.h"
 #include "mesh/ply_stl_io.h"
+#include "mesh/stl_io.h"
 #include "mesh/vertex_colors.h"
 
 namespace ffd {
@@ -71,12 +73,10 @@ Mesh read_mesh(const std::string& path) {
       soup = read_off(read_text(path), path);
       break;
     case MeshFormat::Ply:
-      read_text(path);  // same "no such file" message as the other formats
-      soup = read_ply(path);
+      soup = read_ply(read_text(path), path);
       break;
     case MeshFormat::Stl:
-      read_text(path);
-      soup = read_stl(path);
+      soup = read_stl(read_text(path), path);
       break;
   }
   return build_mesh(soup, path);

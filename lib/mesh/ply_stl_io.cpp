@@ -1,105 +1,12 @@
 #include "mesh/ply_stl_io.h"
 
-#include <CGAL/IO/PLY.h>
-#include <CGAL/IO/STL.h>
-#include <CGAL/Surface_mesh/IO/PLY.h>
-
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 
-#include "common/errors.h"
 #include "common/numbers.h"
 #include "mesh/mesh_storage.h"
 
 namespace ffd {
-namespace {
-
-std::ifstream open_binary(const std::string& path) {
-  std::ifstream is(path, std::ios::binary);
-  if (!is) throw InputError(path + ": cannot open for reading");
-  return is;
-}
-
-void check_finite(const PolygonSoup& soup, const std::string& path) {
-  for (std::size_t i = 0; i < soup.positions.size(); ++i)
-    if (!soup.positions[i].allFinite())
-      throw InputError(path + ": vertex " + std::to_string(i) + " has a non-finite coordinate");
-  for (std::size_t i = 0; i < soup.normals.size(); ++i)
-    if (!soup.normals[i].allFinite())
-      throw InputError(path + ": the normal of vertex " + std::to_string(i) + " is not finite");
-}
-
-}  // namespace
-
-PolygonSoup read_ply(const std::string& path) {
-  PolygonSoup soup;
-  // First as a polygon soup: it reads any face list, so a non-manifold face is reported by
-  // build_mesh with its index instead of as a bare "cannot read".
-  {
-    std::ifstream is = open_binary(path);
-    std::vector<Point3> points;
-    std::vector<std::vector<std::size_t>> polygons;
-    std::vector<CGAL::IO::Color> colors, face_colors;  // face colours are read and dropped
-    if (!CGAL::IO::read_PLY(is, points, polygons,
-                            CGAL::parameters::vertex_color_output_iterator(std::back_inserter(colors))
-                                .face_color_output_iterator(std::back_inserter(face_colors))
-                                .verbose(false)))
-      throw InputError(path + ": not a readable PLY file (CGAL's reader refused it)");
-    for (const Point3& p : points) soup.positions.push_back(to_eigen(p));
-    for (std::size_t i = 0; i < polygons.size(); ++i) {
-      SoupFace face;
-      for (std::size_t v : polygons[i]) {
-        if (v >= points.size())
-          throw InputError(path + ": face " + std::to_string(i) + " uses vertex " + std::to_string(v) +
-                           ", out of range (the file has " + std::to_string(points.size()) + ")");
-        face.vertices.push_back(static_cast<std::uint32_t>(v));
-      }
-      soup.faces.push_back(std::move(face));
-    }
-    if (colors.size() == points.size())
-      for (const CGAL::IO::Color& c : colors)
-        soup.colors.emplace_back(c.red() / 255.0f, c.green() / 255.0f, c.blue() / 255.0f);
-  }
-  // Vertex normals are only exposed by the Surface_mesh reader; it refuses non-manifold
-  // input, in which case build_mesh reports the face anyway.
-  {
-    std::ifstream is = open_binary(path);
-    SurfaceMesh tmp;
-    std::string comments;
-    if (CGAL::IO::read_PLY(is, tmp, comments, false) &&
-        tmp.number_of_vertices() == soup.positions.size()) {
-      auto normals = tmp.property_map<VertexIndex, Kernel::Vector_3>("v:normal");
-      if (normals.second) {
-        for (VertexIndex v : tmp.vertices()) {
-          const Kernel::Vector_3& n = normals.first[v];
-          soup.normals.emplace_back(n.x(), n.y(), n.z());
-        }
-        for (SoupFace& f : soup.faces) f.normals.assign(f.vertices.begin(), f.vertices.end());
-      }
-    }
-  }
-  check_finite(soup, path);
-  return soup;
-}
-
-PolygonSoup read_stl(const std::string& path) {
-  std::ifstream is = open_binary(path);
-  std::vector<Point3> points;
-  std::vector<std::array<std::size_t, 3>> triangles;
-  if (!CGAL::IO::read_STL(is, points, triangles, CGAL::parameters::verbose(false)))
-    throw InputError(path + ": not a readable STL file (CGAL's reader refused it)");
-  PolygonSoup soup;
-  for (const Point3& p : points) soup.positions.push_back(to_eigen(p));
-  for (const auto& t : triangles) {
-    SoupFace face;
-    face.vertices = {static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]),
-                     static_cast<std::uint32_t>(t[2])};
-    soup.faces.push_back(std::move(face));
-  }
-  check_finite(soup, path);
-  return soup;
-}
 
 void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors) {
   const MeshStorage& s = mesh.storage();

@@ -1,4 +1,4 @@
-// PLY and STL through CGAL's readers; our own exact writers.
+// PLY and STL: our exact writers (the readers are in ply_io.h and stl_io.h).
 #pragma once
 
 #include <ostream>
@@ -9,14 +9,6 @@
 #include "mesh/soup.h"
 
 namespace ffd {
-
-/// Reads a PLY file (ASCII or binary) with CGAL: positions, faces, vertex normals
-/// (nx ny nz) and colours (red green blue). \throw InputError naming the file and, for
-/// bad values, the vertex.
-PolygonSoup read_ply(const std::string& path);
-
-/// Reads an STL file (ASCII or binary) with CGAL; equal corner points become one vertex.
-PolygonSoup read_stl(const std::string& path);
 
 /// Writes ASCII PLY with double coordinates (round-trip exact), optional per-vertex
 /// normals (3 × n) and `colors` (uchar red green blue).
