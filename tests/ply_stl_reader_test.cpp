@@ -475,7 +475,8 @@ TEST(PlyReader, ErrorsNameTheFileAndThePlace) {
   put(cut, std::uint8_t(3), false);  // vertex 0 takes 25 bytes, vertex 1 is cut short
   cut += std::string(12 + 2, '\0');
   expect_input_error(read(cut), "f.ply: vertex 1: ", {"the file ends inside it (expected x)"});
-  expect_input_error(read(binary_triangle() + "xy"), "f.ply: ", {"2 bytes after the last element"});
+  // Padding after a binary file's last element is read past, as exporters pad.
+  EXPECT_EQ(read_ply(binary_triangle() + "xy", "f.ply").faces.size(), read_ply(binary_triangle(), "f.ply").faces.size());
 }
 
 TEST(StlReader, ErrorsNameTheFileAndThePlace) {
