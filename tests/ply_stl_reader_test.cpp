@@ -30,25 +30,10 @@
 namespace ffd {
 namespace {
 
+using test::expect_input_error;
+
 using CgalPoint = CGAL::Simple_cartesian<double>::Point_3;
 
-void expect_input_error(const std::function<void()>& fn, const std::string& prefix,
-                        const std::vector<std::string>& parts = {}) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(what.rfind(prefix, 0), 0u) << "message '" << what << "' does not start with '" << prefix << "'";
-    for (const std::string& part : parts)
-      EXPECT_NE(what.find(part), std::string::npos) << "message '" << what << "' does not mention '" << part << "'";
-    EXPECT_EQ(what.find('\n'), std::string::npos) << "message is not one line: " << what;
-    return;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "threw something other than InputError: " << e.what();
-    return;
-  }
-  ADD_FAILURE() << "no InputError (expected '" << prefix << "')";
-}
 
 // ---------------------------------------------------------------------------------------
 // A small PLY generator: a tetrahedron with normals, colours, texture coordinates and

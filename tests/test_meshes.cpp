@@ -1,5 +1,7 @@
 #include "test_meshes.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -9,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "common/errors.h"
 #include "mesh/build_mesh.h"
 #include "mesh/mesh_io.h"
 
@@ -139,6 +142,24 @@ std::string grid_obj(int n, bool quads) {
       s += quads ? "f " + a + " " + b + " " + c + " " + d + "\n" : "f " + a + " " + b + " " + c + "\nf " + a + " " + c + " " + d + "\n";
     }
   return s;
+}
+
+void expect_input_error(const std::function<void()>& fn, const std::string& prefix,
+                        const std::vector<std::string>& parts) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(prefix, 0), 0u) << "message '" << what << "' does not start with '" << prefix << "'";
+    for (const std::string& part : parts)
+      EXPECT_NE(what.find(part), std::string::npos) << "message '" << what << "' does not mention '" << part << "'";
+    EXPECT_EQ(what.find('\n'), std::string::npos) << "message is not one line: " << what;
+    return;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "threw something other than InputError: " << e.what();
+    return;
+  }
+  ADD_FAILURE() << "no InputError (expected '" << prefix << "')";
 }
 
 std::string quoted(const std::string& path) { return "'" + path + "'"; }

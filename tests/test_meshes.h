@@ -4,6 +4,7 @@
 #include <functional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -40,6 +41,11 @@ int run_tool(const std::string& args, std::string* out = nullptr, std::string* e
 /// Reads a whole file ("" if missing).
 std::string read_file(const std::string& path);
 void write_file(const std::string& path, const std::string& text);
+
+/// Expects `fn` to throw InputError whose message starts with `prefix`, contains every one
+/// of `parts` and is one line.
+void expect_input_error(const std::function<void()>& fn, const std::string& prefix,
+                        const std::vector<std::string>& parts = {});
 
 /// The path in single quotes, for run_tool's shell command line.
 std::string quoted(const std::string& path);
