@@ -539,6 +539,18 @@ TEST(ObjIo, ReadMeshNamesThePathAndLine) {
   expect_input_error([&] { read_mesh(dir + "/mesh.xyz"); }, dir + "/mesh.xyz:", {"unknown mesh format"});
 }
 
+// Never trust a header; a file with no vertex is not a mesh (whatever its format).
+TEST(MeshIo, HugeCountsAndFilesWithoutVerticesAreInputErrors) {
+  expect_input_error([] { read_off("OFF\n1000000000000 1 0\n0 0 0\n", "x.off"); }, "x.off:2:",
+                     {"1000000000000 vertices", "more than the file's 28 bytes can hold"});
+  const std::string dir = test::temp_folder("mesh_io_empty");
+  for (const char* name : {"empty.obj", "comment.obj", "zero.off"}) {
+    const std::string path = dir + "/" + name;
+    test::write_file(path, std::string(name) == "comment.obj" ? "# nothing here\n" : std::string(name) == "zero.off" ? "OFF\n0 0 0\n" : "");
+    expect_input_error([path] { read_mesh(path); }, path + ": ", {"no vertex"});
+  }
+}
+
 TEST(OffIo, RejectsMalformedFilesWithFileAndLine) {
   const auto read = [](const std::string& text) { return [text] { build_mesh(read_off(text, "x.off"), "x.off"); }; };
   const std::string tri = "0 0 0\n1 0 0\n0 1 0\n";  // lines 3-5 after "OFF\nn f e\n"

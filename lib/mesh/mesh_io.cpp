@@ -79,6 +79,8 @@ Mesh read_mesh(const std::string& path) {
       soup = read_stl(read_text(path), path);
       break;
   }
+  // Nothing to deform, and nothing a step could write back: not a mesh.
+  if (soup.positions.empty()) throw InputError(At{path}, "the file has no vertex");
   return build_mesh(soup, path);
 }
 

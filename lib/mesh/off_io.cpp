@@ -170,6 +170,11 @@ PolygonSoup read_off(std::string_view text, const std::string& file) {
   const std::size_t counts_line = lines.number();  // named when the file ends early
   long long nv, nf;
   parse_counts(counts, file, counts_line, nv, nf);
+  // Never trust a header: a vertex line takes at least 6 bytes ("0 0 0\n"), a face line 2.
+  const long long bytes = static_cast<long long>(text.size());
+  if (nv > bytes / 6 + 1 || nf > bytes / 2 + 1)
+    throw InputError(place(file, counts_line) + ": the counts promise " + std::to_string(nv) + " vertices and " +
+                     std::to_string(nf) + " faces, more than the file's " + std::to_string(bytes) + " bytes can hold");
 
   soup.positions.reserve(nv);
   if (header.normal) soup.normals.reserve(nv);
