@@ -3,6 +3,7 @@
 #include "script/op.h"
 #include "script/selection.h"
 #include "warp/bernstein_lattice.h"
+#include "warp/box_fit.h"
 #include "warp/lattice_spec.h"
 
 namespace ffd {
@@ -67,8 +68,16 @@ Parallelepiped make_box(const Scene& scene, const BoxSpec& box) {
   if (box.kind == BoxSpec::Kind::OriginAxes) return Parallelepiped(box.origin, box.axes);
   std::vector<std::uint32_t> ids;
   if (box.select) ids = select_vertices(*box.select, scene.mesh.positions());
-  return box.fit == BoxSpec::Fit::Obb ? fit_obb(scene.mesh.positions(), ids, box.padding)
-                                      : fit_aabb(scene.mesh.positions(), ids, box.padding);
+  const auto positions = scene.mesh.positions();
+  switch (box.fit) {
+    case BoxSpec::Fit::Obb:
+      return fit_principal_box(positions, ids, box.padding);
+    case BoxSpec::Fit::MinVolume:
+      return fit_min_volume_box(positions, ids, box.padding);
+    case BoxSpec::Fit::Aabb:
+      break;
+  }
+  return fit_aabb(positions, ids, box.padding);
 }
 
 nlohmann::json vec_json(const Eigen::Vector3d& v) { return write_value(v); }

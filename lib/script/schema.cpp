@@ -72,7 +72,7 @@ const char* kGrammar = R"json({
                                  "description": "The three edge vectors from the origin corner."}}},
         {"type": "object", "title": "fit", "required": ["fit"], "additionalProperties": false,
          "properties": {
-           "fit": {"enum": ["aabb", "obb"], "description": "Fit an axis-aligned or oriented box to the current mesh."},
+           "fit": {"enum": ["aabb", "obb", "min_volume"], "description": "Fit a box to the current mesh: aabb, axis-aligned; obb, along the principal components of the vertices (Gottschalk's OBB, what Ono et al. use); min_volume, the box of least volume (CGAL's optimal bounding box, slower)."},
            "padding": {"type": "number", "minimum": 0, "default": 0.05,
                        "description": "Added on every side, as a fraction of the fitted box's largest extent."},
            "select": {"$ref": "#/$defs/selection", "description": "Fit to these mesh vertices only."}}}

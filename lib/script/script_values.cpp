@@ -101,7 +101,7 @@ void read_value(const json& j, BoxSpec& out, const ScriptPlace& place) {
     for (int a = 0; a < 3; ++a) out.axes.col(a) = vec3(j["axes"][a]);
   } else {
     out.kind = BoxSpec::Kind::Fit;
-    out.fit = j["fit"] == "obb" ? BoxSpec::Fit::Obb : BoxSpec::Fit::Aabb;
+    out.fit = j["fit"] == "obb" ? BoxSpec::Fit::Obb : j["fit"] == "min_volume" ? BoxSpec::Fit::MinVolume : BoxSpec::Fit::Aabb;
     out.padding = j["padding"].get<double>();
     if (j.contains("select")) read_value(j["select"], out.select, place.at("/select"));
   }
@@ -126,7 +126,8 @@ json write_value(const BoxSpec& v) {
     case BoxSpec::Kind::Fit:
       break;
   }
-  return {{"fit", v.fit == BoxSpec::Fit::Obb ? "obb" : "aabb"}, {"padding", v.padding}};
+  const char* fit = v.fit == BoxSpec::Fit::Obb ? "obb" : v.fit == BoxSpec::Fit::MinVolume ? "min_volume" : "aabb";
+  return {{"fit", fit}, {"padding", v.padding}};
 }
 
 std::string frame_path(const std::string& pattern, std::size_t i) {

@@ -65,7 +65,7 @@ struct Selection {
 /// current mesh (or a selection of it) with padding.
 struct BoxSpec {
   enum class Kind { MinMax, OriginAxes, Fit };
-  enum class Fit { Aabb, Obb };
+  enum class Fit { Aabb, Obb, MinVolume };  // Obb: along the principal components
   Kind kind = Kind::Fit;
   Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();

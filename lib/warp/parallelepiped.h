@@ -38,10 +38,6 @@ private:
 Parallelepiped fit_aabb(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                         const std::vector<std::uint32_t>& ids, double padding);
 
-/// The oriented bounding box (CGAL's optimal bounding box, fixed seed: deterministic),
-/// padded like fit_aabb. Its axes are ordered and signed to lie closest to x, y, z and to
-/// form a right-handed frame, so lattice index i still runs roughly along x.
-Parallelepiped fit_obb(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
-                       const std::vector<std::uint32_t>& ids, double padding);
+/// Oriented boxes: warp/box_fit.h.
 
 }  // namespace ffd
