@@ -60,14 +60,16 @@ Vec3Property MeshStorage::vec3_attribute(const std::string& name) {
 
 namespace {
 
+// (An empty mesh maps no memory: CGAL's data() indexes its first element, undefined when
+// there is none.)
 Vec3Array vec3_map(SurfaceMesh::Property_map<VertexIndex, Eigen::Vector3d>& map, std::size_t n) {
-  return {const_cast<double*>(reinterpret_cast<const double*>(map.data())), 3,
+  return {n ? const_cast<double*>(reinterpret_cast<const double*>(map.data())) : nullptr, 3,
           static_cast<Eigen::Index>(n)};
 }
 
 ConstVec3Array const_vec3_map(const SurfaceMesh::Property_map<VertexIndex, Eigen::Vector3d>& map,
                               std::size_t n) {
-  return {reinterpret_cast<const double*>(map.data()), 3, static_cast<Eigen::Index>(n)};
+  return {n ? reinterpret_cast<const double*>(map.data()) : nullptr, 3, static_cast<Eigen::Index>(n)};
 }
 
 }  // namespace

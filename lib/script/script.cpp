@@ -20,7 +20,7 @@ Script parse_script(const std::string& text, const std::string& path) {
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse errors, and numbers past double's range (out_of_range)
     // nlohmann's message carries "at line L, column C"; keep that part.
     std::string what = e.what();
     const auto colon = what.find("] ");
