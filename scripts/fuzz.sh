@@ -24,13 +24,14 @@ status=0
 for t in "${targets[@]}"; do
   mkdir -p "build-fuzz/corpus/$t" "build-fuzz/findings/$t"
   log="build-fuzz/fuzz_$t.log"
+  touch "build-fuzz/.start_$t"
   if ! ASAN_OPTIONS=detect_leaks=0 "build-fuzz/tests/fuzz/fuzz_$t" "build-fuzz/corpus/$t" "tests/fuzz/corpus/$t" \
       -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 \
       -artifact_prefix="build-fuzz/findings/$t/" >"$log" 2>&1; then
     status=1
   fi
   execs=$(grep -E "stat::number_of_executed_units" "$log" | awk '{print $2}')
-  found=$(find "build-fuzz/findings/$t" -type f | wc -l)
-  echo "fuzz $t: ${execs:-?} runs in ${seconds} s, corpus $(find "build-fuzz/corpus/$t" -type f | wc -l), findings $found"
+  found=$(find "build-fuzz/findings/$t" -type f -newer "build-fuzz/.start_$t" | wc -l)
+  echo "fuzz $t: ${execs:-?} runs in ${seconds} s, corpus $(find "build-fuzz/corpus/$t" -type f | wc -l), new findings $found"
 done
 exit $status
