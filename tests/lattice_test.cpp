@@ -7,19 +7,14 @@
 
 #include <omp.h>
 
+#include "test_meshes.h"
 #include "warp/bernstein_lattice.h"
 #include "warp/bspline_lattice.h"
 
 namespace ffd {
 namespace {
 
-Parallelepiped skewed_box() {
-  Eigen::Matrix3d axes;
-  axes << 2.0, 0.3, 0.1,  //
-      0.2, 1.5, -0.2,     //
-      -0.1, 0.25, 1.2;
-  return Parallelepiped(Eigen::Vector3d(-0.7, 0.4, 1.1), axes);
-}
+using test::skewed_box;
 
 struct Case {
   std::string name;

@@ -162,6 +162,14 @@ void expect_input_error(const std::function<void()>& fn, const std::string& pref
   ADD_FAILURE() << "no InputError (expected '" << prefix << "')";
 }
 
+Parallelepiped skewed_box() {
+  Eigen::Matrix3d axes;
+  axes << 2.0, 0.3, 0.1,  //
+      0.2, 1.5, -0.2,     //
+      -0.1, 0.25, 1.2;
+  return Parallelepiped(Eigen::Vector3d(-0.7, 0.4, 1.1), axes);
+}
+
 std::string quoted(const std::string& path) { return "'" + path + "'"; }
 
 std::set<std::string> files_in(const std::string& dir) {

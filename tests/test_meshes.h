@@ -10,6 +10,7 @@
 
 #include "mesh/mesh.h"
 #include "mesh/soup.h"
+#include "warp/parallelepiped.h"
 
 namespace ffd::test {
 
@@ -22,6 +23,9 @@ Mesh grid_mesh(int n, const std::function<double(double, double)>& height = null
 /// OBJ text of an n × n grid of unit squares on z = 0, vertex (i, j) at (i, j, 0): two
 /// triangles per square, or one quad.
 std::string grid_obj(int n, bool quads = false);
+
+/// A lattice box that is neither axis-aligned nor rectangular, away from the origin.
+Parallelepiped skewed_box();
 
 /// A unit icosphere (radius 1 at the origin) subdivided `levels` times.
 Mesh sphere_mesh(int levels);

@@ -18,13 +18,7 @@
 namespace ffd {
 namespace {
 
-Parallelepiped skewed_box() {
-  Eigen::Matrix3d axes;
-  axes << 2.0, 0.3, 0.1,  //
-      0.2, 1.5, -0.2,     //
-      -0.1, 0.25, 1.2;
-  return Parallelepiped(Eigen::Vector3d(-0.7, 0.4, 1.1), axes);
-}
+using test::skewed_box;
 
 // Box coordinates by a QR solve of axes · u = x − origin (not the box's cached inverse).
 Eigen::Vector3d box_coordinates(const Parallelepiped& box, const Eigen::Vector3d& x) {

@@ -146,6 +146,16 @@ struct Commands {
            *schema_cmd = nullptr, *batch_cmd = nullptr, *report_cmd = nullptr;
 };
 
+// `--progress auto|json|none` (default auto) into `mode`.
+void add_progress(CLI::App* command, ffd::ProgressMode& mode, const std::string& doc) {
+  mode = ffd::ProgressMode::Auto;
+  command
+      ->add_option_function<std::string>(
+          "--progress", [&mode](const std::string& name) { mode = ffd::progress_mode_names().at(name); }, doc)
+      ->check(CLI::IsMember({"auto", "json", "none"}))
+      ->default_str("auto");
+}
+
 void add_batch(CLI::App& app, Commands& c) {
   ffd::BatchOptions& b = c.batch;
   c.batch_cmd = app.add_subcommand("batch", "Run a script on many meshes (each in a process of its own)");
@@ -159,13 +169,7 @@ void add_batch(CLI::App& app, Commands& c) {
   c.batch_cmd->add_flag("--recursive", b.recursive, "Take meshes from the folders' subfolders too");
   c.batch_cmd->add_option("--timeout", b.timeout_s, "Seconds per mesh; past it the mesh fails")->check(CLI::PositiveNumber);
   c.batch_cmd->add_option("--max-memory", c.max_memory, "Memory per mesh (bytes, or with K, M, G); past it the mesh fails");
-  b.progress = ffd::ProgressMode::Auto;
-  c.batch_cmd
-      ->add_option_function<std::string>(
-          "--progress", [&b](const std::string& name) { b.progress = ffd::progress_mode_names().at(name); },
-          "auto: a live line on a terminal's stderr; json: NDJSON events on stderr; none")
-      ->check(CLI::IsMember({"auto", "json", "none"}))
-      ->default_str("auto");
+  add_progress(c.batch_cmd, b.progress, "auto: a live line on a terminal's stderr; json: NDJSON events on stderr; none");
   c.report_cmd = app.add_subcommand("report", "Summarize a batch's results files");
   c.report_cmd->add_option("folder", c.report_folder, "The batch's output folder")->required();
   c.report_cmd->add_flag("--json", c.report_json, "Print as JSON");
@@ -213,13 +217,8 @@ void add_run(CLI::App& app, Commands& c) {
   c.run_cmd->add_flag("--quiet", run.quiet, "No per-step lines on stderr");
   c.run_cmd->add_option("--threads", run.threads, "Threads for evaluation (default: all cores)")
       ->check(CLI::NonNegativeNumber);
-  run.progress = ffd::ProgressMode::Auto;
-  c.run_cmd
-      ->add_option_function<std::string>(
-          "--progress", [&run](const std::string& name) { run.progress = ffd::progress_mode_names().at(name); },
-          "auto: the step in progress on a terminal's stderr (not with --quiet); json: NDJSON events on stderr; none")
-      ->check(CLI::IsMember({"auto", "json", "none"}))
-      ->default_str("auto");
+  add_progress(c.run_cmd, run.progress,
+               "auto: the step in progress on a terminal's stderr (not with --quiet); json: NDJSON events on stderr; none");
 }
 
 void add_compare(CLI::App& app, Commands& c) {
