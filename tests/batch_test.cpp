@@ -194,7 +194,7 @@ TEST(Batch, AMeshPastTheMemoryLimitFailsAlone) {
   const std::string dir = temp_folder("batch_memory");
   fs::create_directories(dir + "/in");
   fs::copy(data("bunny.obj"), dir + "/in/bunny.obj");
-  write_file(dir + "/in/big.obj", test::grid_obj(500));  // 251,001 vertices
+  write_file(dir + "/in/big.obj", test::grid_obj(800));  // 641,601 vertices, about 170 MB to run
   write_file(dir + "/s.json", kScript);
   std::string err;
   EXPECT_EQ(batch(quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out") +

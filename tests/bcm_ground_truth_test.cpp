@@ -57,11 +57,11 @@ PolygonSoup sheared_patch(bool planar = false) {
     for (int i = 0; i + 1 < kSide; ++i) {
       const std::uint32_t a = vertex(i, j), b = vertex(i + 1, j), c = vertex(i + 1, j + 1), d = vertex(i, j + 1);
       if ((i + 2 * j) % 3 == 0) {  // the long diagonal a–c: non-Delaunay
-        soup.faces.push_back({{a, b, c}, {}, {}});
-        soup.faces.push_back({{a, c, d}, {}, {}});
+        soup.elements.add_polygon({a, b, c});
+        soup.elements.add_polygon({a, c, d});
       } else {  // the short one
-        soup.faces.push_back({{a, b, d}, {}, {}});
-        soup.faces.push_back({{b, c, d}, {}, {}});
+        soup.elements.add_polygon({a, b, d});
+        soup.elements.add_polygon({b, c, d});
       }
     }
   return soup;
@@ -97,9 +97,10 @@ struct DenseLaplacian {
 };
 
 DenseLaplacian dense_laplacian(const PolygonSoup& soup, bool positive = false) {
+  const std::vector<test::SoupFace> soup_faces = test::soup_faces(soup);
   const Eigen::Index n = static_cast<Eigen::Index>(soup.positions.size());
   DenseLaplacian out{Eigen::MatrixXd::Zero(n, n), Eigen::VectorXd::Zero(n)};
-  for (const SoupFace& face : soup.faces) {
+  for (const test::SoupFace& face : soup_faces) {
     const auto& v = face.vertices;
     double angle[3];
     for (int c = 0; c < 3; ++c) {
@@ -201,8 +202,9 @@ BcmOptions options_for(int k, LaplacianKind laplacian) {
 }
 
 std::vector<Triangle> triangles_of(const PolygonSoup& soup) {
+  const std::vector<test::SoupFace> soup_faces = test::soup_faces(soup);
   std::vector<Triangle> out;
-  for (const SoupFace& f : soup.faces) out.push_back({f.vertices[0], f.vertices[1], f.vertices[2]});
+  for (const test::SoupFace& f : soup_faces) out.push_back({f.vertices[0], f.vertices[1], f.vertices[2]});
   return out;
 }
 
@@ -338,10 +340,11 @@ TEST(BcmGroundTruth, StandardWeightsHaveLinearPrecisionOnANonDelaunayPlane) {
 TEST(BcmGroundTruth, CotanPositiveFromAScript) {
   const std::string dir = test::temp_folder("bcm_cotan_positive");
   const PolygonSoup soup = sheared_patch();
+  const std::vector<test::SoupFace> soup_faces = test::soup_faces(soup);
   std::string obj;
   for (const Eigen::Vector3d& q : soup.positions)
     obj += "v " + std::to_string(q.x()) + " " + std::to_string(q.y()) + " " + std::to_string(q.z()) + "\n";
-  for (const SoupFace& f : soup.faces)
+  for (const test::SoupFace& f : soup_faces)
     obj += "f " + std::to_string(f.vertices[0] + 1) + " " + std::to_string(f.vertices[1] + 1) + " " +
            std::to_string(f.vertices[2] + 1) + "\n";
   test::write_file(dir + "/patch.obj", obj);

@@ -369,9 +369,9 @@ Mesh midpoint_refined(const Mesh& mesh) {
     const std::uint32_t ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
     for (const std::vector<std::uint32_t>& t : {std::vector<std::uint32_t>{f[0], ab, ca}, {f[1], bc, ab},
                                                 {f[2], ca, bc}, {ab, bc, ca}}) {
-      SoupFace face;
+      test::SoupFace face;
       face.vertices = t;
-      soup.faces.push_back(face);
+      test::add_face(soup, face.vertices, face.uvs, face.normals, face.group);
     }
   }
   return build_mesh(soup, "refined");

@@ -25,6 +25,7 @@
 #include "common/errors.h"
 #include "common/numbers.h"
 #include "mesh/build_mesh.h"
+#include "mesh/halfedge_view.h"
 #include "mesh/mesh_io.h"
 #include "mesh/obj_io.h"
 #include "mesh/off_io.h"
@@ -102,6 +103,8 @@ std::vector<Eigen::Vector3d> random_positions(int n, std::mt19937_64& rng) {
 }
 
 void expect_same_soup(const PolygonSoup& a, const PolygonSoup& b, const std::string& what) {
+  const std::vector<test::SoupFace> a_faces = test::soup_faces(a);
+  const std::vector<test::SoupFace> b_faces = test::soup_faces(b);
   SCOPED_TRACE(what);
   ASSERT_EQ(a.positions.size(), b.positions.size());
   for (std::size_t i = 0; i < a.positions.size(); ++i)
@@ -113,13 +116,13 @@ void expect_same_soup(const PolygonSoup& a, const PolygonSoup& b, const std::str
   for (std::size_t i = 0; i < a.normals.size(); ++i) ASSERT_TRUE(a.normals[i] == b.normals[i]) << "vn " << i;
   ASSERT_EQ(a.colors.size(), b.colors.size());
   for (std::size_t i = 0; i < a.colors.size(); ++i) ASSERT_TRUE(a.colors[i] == b.colors[i]) << "colour " << i;
-  ASSERT_EQ(a.faces.size(), b.faces.size());
-  for (std::size_t f = 0; f < a.faces.size(); ++f) {
-    ASSERT_EQ(a.faces[f].vertices, b.faces[f].vertices) << "face " << f;
-    ASSERT_EQ(a.faces[f].uvs, b.faces[f].uvs) << "face " << f;
-    ASSERT_EQ(a.faces[f].normals, b.faces[f].normals) << "face " << f;
-    const ObjState sa = a.faces[f].group >= 0 ? a.groups[a.faces[f].group] : ObjState{};
-    const ObjState sb = b.faces[f].group >= 0 ? b.groups[b.faces[f].group] : ObjState{};
+  ASSERT_EQ(a_faces.size(), b_faces.size());
+  for (std::size_t f = 0; f < a_faces.size(); ++f) {
+    ASSERT_EQ(a_faces[f].vertices, b_faces[f].vertices) << "face " << f;
+    ASSERT_EQ(a_faces[f].uvs, b_faces[f].uvs) << "face " << f;
+    ASSERT_EQ(a_faces[f].normals, b_faces[f].normals) << "face " << f;
+    const ObjState sa = a_faces[f].group >= 0 ? a.groups[a_faces[f].group] : ObjState{};
+    const ObjState sb = b_faces[f].group >= 0 ? b.groups[b_faces[f].group] : ObjState{};
     ASSERT_TRUE(sa == sb) << "face " << f << ": o/g/usemtl/s '" << sa.object << "' '" << sa.group << "' '"
                           << sa.material << "' '" << sa.smoothing << "' vs '" << sb.object << "' '" << sb.group
                           << "' '" << sb.material << "' '" << sb.smoothing << "'";
@@ -194,7 +197,7 @@ ObjModel random_obj(int n, std::uint64_t seed) {
     } else if (f == 30) {
       set_state("usemtl", "red", &ObjState::material);  // back to an earlier state
     }
-    SoupFace face{faces[f], {}, {}};
+    test::SoupFace face{faces[f], {}, {}};
     face.group = static_cast<std::int32_t>(s.groups.size()) - 1;
     const int syntax = static_cast<int>(f % 4);  // v, v/t, v//n, v/t/n
     os << "f";
@@ -213,7 +216,7 @@ ObjModel random_obj(int n, std::uint64_t seed) {
       }
     }
     os << (f == 11 ? "  # trailing comment\n" : "\n");
-    s.faces.push_back(face);
+    test::add_face(s, face.vertices, face.uvs, face.normals, face.group);
   }
   m.text = os.str();
   return m;
@@ -222,10 +225,11 @@ ObjModel random_obj(int n, std::uint64_t seed) {
 TEST(ObjIo, ReadsEveryStatementExactly) {
   const ObjModel model = random_obj(8, 1);
   const PolygonSoup soup = read_obj(model.text, "model.obj");
+  const std::vector<test::SoupFace> soup_faces = test::soup_faces(soup);
   expect_same_soup(model.soup, soup, "file as written vs as read");
   // Polygons of every kind are kept as they are.
   std::map<std::size_t, std::size_t> degrees;
-  for (const auto& f : soup.faces) ++degrees[f.vertices.size()];
+  for (const test::SoupFace& f : soup_faces) ++degrees[f.vertices.size()];
   EXPECT_GT(degrees[3], 0u);
   EXPECT_GT(degrees[4], 0u);
   EXPECT_GT(degrees[5], 0u);
@@ -304,9 +308,9 @@ OffModel random_off(int n, std::uint64_t seed, bool colors, bool normals) {
     os << f.size();
     for (std::uint32_t v : f) os << " " << v;
     os << "\n";
-    SoupFace face{f, {}, {}};
+    test::SoupFace face{f, {}, {}};
     if (normals) face.normals.assign(f.begin(), f.end());
-    s.faces.push_back(face);
+    test::add_face(s, face.vertices, face.uvs, face.normals, face.group);
   }
   m.text = os.str();
   return m;
@@ -338,9 +342,10 @@ TEST(OffIo, RoundTripIsExactAndStableForEveryVariant) {
 TEST(OffIo, ReadsCountsOnTheHeaderLineAndCrlf) {
   const std::string text = "OFF 4 1 0\r\n0 0 0\r\n1 0 0\r\n1 1 0\r\n0 1 0\r\n4 0 1 2 3\r\n";
   const PolygonSoup soup = read_off(text, "a.off");
+  const std::vector<test::SoupFace> soup_faces = test::soup_faces(soup);
   ASSERT_EQ(soup.positions.size(), 4u);
-  ASSERT_EQ(soup.faces.size(), 1u);
-  EXPECT_EQ(soup.faces[0].vertices, (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  ASSERT_EQ(soup_faces.size(), 1u);
+  EXPECT_EQ(soup_faces[0].vertices, (std::vector<std::uint32_t>{0, 1, 2, 3}));
 }
 
 // ---------------------------------------------------------------------------------------
@@ -405,8 +410,8 @@ TEST(MeshIoAgreement, CgalReadsOurOffTheSame) {
   PolygonSoup soup;
   soup.positions = random_positions(12, rng);
   for (const auto& f : polygon_faces(12)) {
-    SoupFace face{f, {}, {}};
-    soup.faces.push_back(face);
+    test::SoupFace face{f, {}, {}};
+    test::add_face(soup, face.vertices, face.uvs, face.normals, face.group);
   }
   const Mesh mesh = build_mesh(soup, "soup");
   const std::string path = test::temp_folder("cgal_off") + "/ours.off";
@@ -432,8 +437,8 @@ Mesh random_polygon_mesh(int n, std::uint64_t seed) {
   PolygonSoup soup;
   soup.positions = random_positions(n, rng);
   for (const auto& f : polygon_faces(n)) {
-    SoupFace face{f, {}, {}};
-    soup.faces.push_back(face);
+    test::SoupFace face{f, {}, {}};
+    test::add_face(soup, face.vertices, face.uvs, face.normals, face.group);
   }
   return build_mesh(soup, "soup");
 }
@@ -512,23 +517,28 @@ TEST(ObjIo, RejectsMalformedLinesWithFileAndLine) {
   expect_input_error(read(head + "v 0 1 0\nf 1 2\n"), "x.obj:4:", {"at least 3"});
   expect_input_error(read(head + "frobnicate 1 2\n"), "x.obj:3:", {"unsupported", "'frobnicate'"});
   expect_input_error(read(head + "curv 0 1 1 2\n"), "x.obj:3:", {"'curv'"});
-  expect_input_error(read(head + "l 1 2\n"), "x.obj:3:", {"'l'", "not supported"});
-  expect_input_error(read(head + "p 1\n"), "x.obj:3:", {"'p'", "not supported"});
+  expect_input_error(read(head + "l 1\n"), "x.obj:3:", {"a line needs at least 2 vertices, found 1"});
+  expect_input_error(read(head + "p\n"), "x.obj:3:", {"a point element needs at least 1 vertices, found 0"});
+  expect_input_error(read(head + "l 1 9\n"), "x.obj:3:", {"vertex index 9 is out of range"});
   expect_input_error(read(head + "vn 0 nan 1\n"), "x.obj:3:", {"'nan'"});
   expect_input_error(read(head + "vt 0.5 inf\n"), "x.obj:3:", {"'inf'"});
   expect_input_error(read(head + "v 0 1 0 2\n"), "x.obj:3:", {"w != 1"});
 }
 
-TEST(ObjIo, RejectsBadConnectivityWithFileAndLine) {
+TEST(ObjIo, TheManifoldCheckNamesTheFileLine) {
   const std::string verts = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0.5 0.5 1\n";  // lines 1-5
+  const auto checked = [&](const std::string& faces) {
+    return [&verts, faces] { check_two_manifold(obj_mesh(verts + faces, "x.obj")); };
+  };
   // Three faces on the edge (1, 2).
-  expect_input_error([&] { obj_mesh(verts + "f 1 2 3\nf 2 1 4\nf 1 2 5\n", "x.obj"); }, "x.obj:8:",
-                     {"non-manifold", "(0, 1)"});
+  expect_input_error(checked("f 1 2 3\nf 2 1 4\nf 1 2 5\n"), "x.obj:8:", {"non-manifold edge 0–1"});
   // Two faces using the edge (1, 2) in the same direction.
-  expect_input_error([&] { obj_mesh(verts + "f 1 2 3\nf 1 2 4\n", "x.obj"); }, "x.obj:7:", {"oriented"});
+  expect_input_error(checked("f 1 2 3\nf 1 2 4\n"), "x.obj:7:", {"flipped against its neighbour face 0 (line 6)"});
   // A face repeating a vertex.
-  expect_input_error([&] { obj_mesh(verts + "f 1 2 3\nf 2 4 1 4\n", "x.obj"); }, "x.obj:7:", {"twice"});
-  expect_input_error([&] { obj_mesh(verts + "f 1 2 1\n", "x.obj"); }, "x.obj:6:", {"twice"});
+  expect_input_error(checked("f 1 2 3\nf 2 4 1 4\n"), "x.obj:7:", {"degenerate", "twice"});
+  expect_input_error(checked("f 1 2 1\n"), "x.obj:6:", {"twice"});
+  // Lines and points are not faces: the check passes over them.
+  EXPECT_NO_THROW(check_two_manifold(obj_mesh(verts + "f 1 2 3\nl 1 2 3 4\np 5\nl 1 2\n", "x.obj")));
 }
 
 TEST(ObjIo, ReadMeshNamesThePathAndLine) {
@@ -572,7 +582,6 @@ TEST(OffIo, RejectsMalformedFilesWithFileAndLine) {
   expect_input_error(read("OFF\n3 1 0\n" + tri + "3 0 1 -1\n"), "x.off:6:", {"out of range"});
   expect_input_error(read("OFF\n3 1 0\n" + tri + "3 0 1\n"), "x.off:6:", {"2 of its 3"});
   expect_input_error(read("OFF\n3 1 0\n" + tri + "2 0 1\n"), "x.off:6:", {"3 or more"});
-  expect_input_error(read("OFF\n3 1 0\n" + tri + "3 0 1 1\n"), "x.off:6:", {"twice"});
   // Trailing garbage after the last face.
   expect_input_error(read("OFF\n3 1 0\n" + tri + "3 0 1 2\n\njunk\n"), "x.off:8:", {"after the last face"});
   // Binary OFF and unknown variants.
@@ -580,13 +589,25 @@ TEST(OffIo, RejectsMalformedFilesWithFileAndLine) {
   expect_input_error(read("4OFF\n3 1 0\n" + tri + "3 0 1 2\n"), "x.off:1:", {"'4OFF'"});
 }
 
-TEST(OffIo, RejectsNonManifoldAndMisorientedFaces) {
+// A space warp takes any polygon soup; the 2-manifold check (remesh, bcm) names the face.
+TEST(OffIo, ReadsNonManifoldAndMisorientedFacesAndTheCheckNamesThem) {
   const std::string verts = "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0.5 0.5 1\n";  // faces from line 8
-  expect_input_error([&] { build_mesh(read_off(verts + "3 0 1 2\n3 1 0 3\n3 0 1 4\n", "x.off"), "x.off"); },
-                     "x.off:10:", {"non-manifold"});
-  expect_input_error(
-      [&] { build_mesh(read_off("OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n3 0 1 2\n3 0 1 3\n", "x.off"), "x.off"); },
-      "x.off:8:", {"oriented"});
+  const auto checked = [](const std::string& text) {
+    return [text] { check_two_manifold(build_mesh(read_off(text, "x.off"), "x.off")); };
+  };
+  EXPECT_EQ(build_mesh(read_off(verts + "3 0 1 2\n3 1 0 3\n3 0 1 4\n", "x.off"), "x.off").num_faces(), 3u);
+  expect_input_error(checked(verts + "3 0 1 2\n3 1 0 3\n3 0 1 4\n"), "x.off:10:",
+                     {"non-manifold edge 0–1", "face 2 is its third face, after face 0 (line 8) and face 1 (line 9)"});
+  expect_input_error(checked("OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n3 0 1 2\n3 0 1 3\n"), "x.off:8:",
+                     {"face 1 is flipped against its neighbour face 0 (line 7): both run 0→1"});
+  expect_input_error(checked("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 1 2 0\n"), "x.off:7:",
+                     {"face 1 duplicates face 0 (line 6)"});
+  expect_input_error(checked("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n"), "x.off:6:",
+                     {"degenerate face 0: it uses vertex 1 twice"});
+  // Two fans meeting at vertex 0 (a bow tie): every edge is fine, the vertex is not.
+  expect_input_error(checked("OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n"), "x.off:9:",
+                     {"non-manifold vertex 0"});
+  EXPECT_NO_THROW(check_two_manifold(build_mesh(read_off(verts + "3 0 1 2\n3 1 0 3\n3 1 4 2\n", "x.off"), "x.off")));
 }
 
 // ---------------------------------------------------------------------------------------
@@ -612,12 +633,9 @@ TEST(BuildMesh, KeepsVertexOrderAndEachFacesFirstVertex) {
     for (std::uint32_t v : f) face.push_back(label[v]);
     std::rotate(face.begin(), face.begin() + rng() % face.size(), face.end());
     expect.push_back(face);
-    SoupFace sf{face, {}, {}};
-    soup.faces.push_back(sf);
   }
-  std::shuffle(soup.faces.begin(), soup.faces.end(), rng);  // any face order
-  expect.clear();
-  for (const auto& f : soup.faces) expect.push_back(f.vertices);
+  std::shuffle(expect.begin(), expect.end(), rng);  // any face order
+  for (const auto& face : expect) test::add_face(soup, face);
 
   const Mesh mesh = build_mesh(soup, "soup");
   ASSERT_EQ(mesh.num_vertices(), soup.positions.size());
@@ -628,8 +646,9 @@ TEST(BuildMesh, KeepsVertexOrderAndEachFacesFirstVertex) {
   EXPECT_EQ(mesh.faces(), expect);
   // The OBJ writer writes them the same way.
   const PolygonSoup back = read_obj(write_to_string(mesh, MeshFormat::Obj), "back.obj");
-  ASSERT_EQ(back.faces.size(), expect.size());
-  for (std::size_t f = 0; f < expect.size(); ++f) EXPECT_EQ(back.faces[f].vertices, expect[f]) << f;
+  const std::vector<test::SoupFace> back_faces = test::soup_faces(back);
+  ASSERT_EQ(back_faces.size(), expect.size());
+  for (std::size_t f = 0; f < expect.size(); ++f) EXPECT_EQ(back_faces[f].vertices, expect[f]) << f;
   EXPECT_EQ(back.positions.size(), soup.positions.size());
 }
 
@@ -651,6 +670,7 @@ std::vector<std::string> lines_starting(const std::string& text, const std::stri
 std::string attribute_grid(int n, bool uvs, bool normals) {
   const auto height = [](double x, double y) { return 0.2 * std::sin(3 * x) * std::cos(2 * y); };
   const PolygonSoup grid = test::grid_soup(n, height, true);
+  const std::vector<test::SoupFace> grid_faces = test::soup_faces(grid);
   std::string text = "mtllib grid.mtl\n";
   for (const auto& p : grid.positions) {
     text += "v ";
@@ -664,9 +684,9 @@ std::string attribute_grid(int n, bool uvs, bool normals) {
   std::vector<std::string> corner_uv;
   if (uvs) {
     int t = 0;
-    for (std::size_t f = 0; f < grid.faces.size(); ++f)
-      for (std::size_t c = 0; c < grid.faces[f].vertices.size(); ++c) {
-        const Eigen::Vector3d& p = grid.positions[grid.faces[f].vertices[c]];
+    for (std::size_t f = 0; f < grid_faces.size(); ++f)
+      for (std::size_t c = 0; c < grid_faces[f].vertices.size(); ++c) {
+        const Eigen::Vector3d& p = grid.positions[grid_faces[f].vertices[c]];
         text += "vt ";
         append_number(text, p.x() * 0.9 + 0.01 * static_cast<double>(f % 3));
         text += " ";
@@ -675,7 +695,7 @@ std::string attribute_grid(int n, bool uvs, bool normals) {
         corner_uv.push_back(std::to_string(++t));
       }
   }
-  std::vector<std::string> vertex_vn(grid.positions.size()), face_vn(grid.faces.size());
+  std::vector<std::string> vertex_vn(grid.positions.size()), face_vn(grid_faces.size());
   if (normals) {
     int k = 0;
     const auto add = [&](Eigen::Vector3d v) {
@@ -694,14 +714,14 @@ std::string attribute_grid(int n, bool uvs, bool normals) {
       vertex_vn[v] = add(Eigen::Vector3d(-0.6 * std::cos(3 * p.x()) * std::cos(2 * p.y()),
                                          0.4 * std::sin(3 * p.x()) * std::sin(2 * p.y()), 1.0));
     }
-    for (std::size_t f = 0; f < grid.faces.size(); ++f)
+    for (std::size_t f = 0; f < grid_faces.size(); ++f)
       face_vn[f] = add(Eigen::Vector3d(0.1 * static_cast<double>(f % 5), -0.2, 1.0));
   }
   text += "g sheet\nusemtl paper\n";
   int corner = 0;
-  for (std::size_t f = 0; f < grid.faces.size(); ++f) {
+  for (std::size_t f = 0; f < grid_faces.size(); ++f) {
     text += "f";
-    for (std::uint32_t v : grid.faces[f].vertices) {
+    for (std::uint32_t v : grid_faces[f].vertices) {
       text += " " + std::to_string(v + 1);
       if (uvs || normals) text += "/";
       if (uvs) text += corner_uv[corner];
@@ -740,6 +760,8 @@ TEST(MeshAttributes, UvsSurviveADeformation) {
   EXPECT_FALSE(lines_starting(input, "vt ").empty());
   // ...while the positions moved.
   const PolygonSoup in = read_obj(input, "in.obj"), out = read_obj(output, "out.obj");
+  const std::vector<test::SoupFace> in_faces = test::soup_faces(in);
+  const std::vector<test::SoupFace> out_faces = test::soup_faces(out);
   ASSERT_EQ(in.positions.size(), out.positions.size());
   std::size_t moved = 0;
   double largest = 0;
@@ -750,7 +772,7 @@ TEST(MeshAttributes, UvsSurviveADeformation) {
   EXPECT_GT(moved, in.positions.size() / 4);
   EXPECT_GT(largest, 0.05);
   EXPECT_EQ(in.uvs, out.uvs);
-  for (std::size_t f = 0; f < in.faces.size(); ++f) EXPECT_EQ(in.faces[f].uvs, out.faces[f].uvs);
+  for (std::size_t f = 0; f < in_faces.size(); ++f) EXPECT_EQ(in_faces[f].uvs, out_faces[f].uvs);
 }
 
 // The cofactor of J times n, from J's columns: cof(J) = [b×c, c×a, a×b].
@@ -762,6 +784,7 @@ Eigen::Vector3d cofactor_normal(const Eigen::Matrix3d& J, const Eigen::Vector3d&
 TEST(MeshAttributes, FileNormalsAreTransformedByTheCofactor) {
   const std::string input = attribute_grid(10, true, true);
   const PolygonSoup in = read_obj(input, "in.obj");
+  const std::vector<test::SoupFace> in_faces = test::soup_faces(in);
   Mesh mesh = build_mesh(in, "in.obj");
   WarpStack stack;
   auto owned = std::make_unique<BSplineLattice>(fit_aabb(mesh.positions(), {}, 0.1), Index3{5, 5, 5}, 3);
@@ -776,17 +799,18 @@ TEST(MeshAttributes, FileNormalsAreTransformedByTheCofactor) {
   options.transform_normal = [&](std::uint32_t v, const Eigen::Vector3d& n) { return stack.transform_normal(mesh, v, n); };
   const std::string output = write_to_string(mesh, MeshFormat::Obj, options);
   const PolygonSoup out = read_obj(output, "out.obj");
-  ASSERT_EQ(out.faces.size(), in.faces.size());
+  const std::vector<test::SoupFace> out_faces = test::soup_faces(out);
+  ASSERT_EQ(out_faces.size(), in_faces.size());
   EXPECT_EQ(lines_starting(output, "vt "), lines_starting(input, "vt "));
 
   std::size_t corners = 0, changed = 0;
-  for (std::size_t f = 0; f < in.faces.size(); ++f) {
-    ASSERT_EQ(in.faces[f].vertices, out.faces[f].vertices);
-    ASSERT_EQ(out.faces[f].normals.size(), in.faces[f].vertices.size());
-    for (std::size_t c = 0; c < in.faces[f].vertices.size(); ++c) {
-      const std::uint32_t v = in.faces[f].vertices[c];
-      const Eigen::Vector3d n_in = in.normals[in.faces[f].normals[c]];
-      const Eigen::Vector3d n_out = out.normals[out.faces[f].normals[c]];
+  for (std::size_t f = 0; f < in_faces.size(); ++f) {
+    ASSERT_EQ(in_faces[f].vertices, out_faces[f].vertices);
+    ASSERT_EQ(out_faces[f].normals.size(), in_faces[f].vertices.size());
+    for (std::size_t c = 0; c < in_faces[f].vertices.size(); ++c) {
+      const std::uint32_t v = in_faces[f].vertices[c];
+      const Eigen::Vector3d n_in = in.normals[in_faces[f].normals[c]];
+      const Eigen::Vector3d n_out = out.normals[out_faces[f].normals[c]];
       // Exactly the warp stack's transformed normal (the file holds it round-trip exact)...
       ASSERT_TRUE(n_out == stack.transform_normal(mesh, v, n_in)) << "face " << f << " corner " << c;
       // ...which is the normalized cofactor-transformed normal, of unit length...

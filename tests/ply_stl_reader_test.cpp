@@ -126,22 +126,25 @@ std::string tetra_ascii_stl(const Tetra& t = {}) {
 }
 
 void expect_same_soup(const PolygonSoup& a, const PolygonSoup& b) {
+  const std::vector<test::SoupFace> a_faces = test::soup_faces(a);
+  const std::vector<test::SoupFace> b_faces = test::soup_faces(b);
   ASSERT_EQ(a.positions.size(), b.positions.size());
   for (std::size_t i = 0; i < a.positions.size(); ++i) EXPECT_TRUE(a.positions[i] == b.positions[i]) << i;
   EXPECT_EQ(a.normals, b.normals);
   EXPECT_EQ(a.colors, b.colors);
   EXPECT_EQ(a.uvs, b.uvs);
-  ASSERT_EQ(a.faces.size(), b.faces.size());
-  for (std::size_t f = 0; f < a.faces.size(); ++f) {
-    EXPECT_EQ(a.faces[f].vertices, b.faces[f].vertices) << f;
-    EXPECT_EQ(a.faces[f].normals, b.faces[f].normals) << f;
-    EXPECT_EQ(a.faces[f].uvs, b.faces[f].uvs) << f;
+  ASSERT_EQ(a_faces.size(), b_faces.size());
+  for (std::size_t f = 0; f < a_faces.size(); ++f) {
+    EXPECT_EQ(a_faces[f].vertices, b_faces[f].vertices) << f;
+    EXPECT_EQ(a_faces[f].normals, b_faces[f].normals) << f;
+    EXPECT_EQ(a_faces[f].uvs, b_faces[f].uvs) << f;
   }
 }
 
 TEST(PlyReader, ReadsEveryPropertyItKeeps) {
   const Tetra t;
   const PolygonSoup soup = read_ply(tetra_ply("ascii"), "t.ply");
+  const std::vector<test::SoupFace> soup_faces = test::soup_faces(soup);
   ASSERT_EQ(soup.positions.size(), 4u);
   for (std::size_t i = 0; i < 4; ++i) {
     EXPECT_TRUE(soup.positions[i] == Eigen::Vector3d(t.p[i][0], t.p[i][1], t.p[i][2])) << i;
@@ -150,12 +153,11 @@ TEST(PlyReader, ReadsEveryPropertyItKeeps) {
         << i;
     EXPECT_TRUE(soup.uvs[i] == Eigen::Vector2d(t.uv[i][0], t.uv[i][1])) << i;
   }
-  ASSERT_EQ(soup.faces.size(), 4u);
-  EXPECT_EQ(soup.faces[1].vertices, (std::vector<std::uint32_t>{0, 1, 3}));
-  EXPECT_EQ(soup.faces[1].normals, (std::vector<std::int32_t>{0, 1, 3}));
-  EXPECT_EQ(soup.faces[1].uvs, (std::vector<std::int32_t>{0, 1, 3}));
-  EXPECT_EQ(soup.faces[1].line, 29u);  // the header takes 23 lines, then 4 vertices
-  EXPECT_EQ(soup.vertex_lines[0], 24u);
+  ASSERT_EQ(soup_faces.size(), 4u);
+  EXPECT_EQ(soup_faces[1].vertices, (std::vector<std::uint32_t>{0, 1, 3}));
+  EXPECT_EQ(soup_faces[1].normals, (std::vector<std::int32_t>{0, 1, 3}));
+  EXPECT_EQ(soup_faces[1].uvs, (std::vector<std::int32_t>{0, 1, 3}));
+  EXPECT_EQ(soup_faces[1].line, 29u);  // the header takes 23 lines, then 4 vertices
 }
 
 TEST(PlyReader, ReadsFloatColoursAsTheyAreAndTheOtherTextureNames) {
@@ -166,13 +168,14 @@ TEST(PlyReader, ReadsFloatColoursAsTheyAreAndTheOtherTextureNames) {
       "property list int8 int16 vertex_index\r\nend_header\r\n"
       "0 0 0 0.5 0.25 1 1 0.125 0.75\r\n1 0 0 0 0 0 1 0 0\r\n0 1 0 1 1 1 0 1 1\r\n3 0 1 2\r\n";
   const PolygonSoup soup = read_ply(text, "c.ply");
+  const std::vector<test::SoupFace> soup_faces = test::soup_faces(soup);
   ASSERT_EQ(soup.colors.size(), 3u);
   EXPECT_TRUE(soup.colors[0] == Eigen::Vector3f(0.5f, 0.25f, 1.0f));
   ASSERT_EQ(soup.uvs.size(), 3u);
   EXPECT_TRUE(soup.uvs[0] == Eigen::Vector2d(0.125, 0.75));
   EXPECT_TRUE(soup.normals.empty());
-  EXPECT_EQ(soup.faces[0].uvs, (std::vector<std::int32_t>{0, 1, 2}));
-  EXPECT_EQ(soup.faces[0].line, 20u);
+  EXPECT_EQ(soup_faces[0].uvs, (std::vector<std::int32_t>{0, 1, 2}));
+  EXPECT_EQ(soup_faces[0].line, 20u);
 }
 
 TEST(PlyReader, BinaryInBothEndiannessesEqualsAscii) {
@@ -217,12 +220,13 @@ void expect_ply_as_cgal_reads_it(const std::string& path) {
                                  CGAL::parameters::vertex_color_output_iterator(std::back_inserter(colors))
                                      .face_color_output_iterator(std::back_inserter(face_colors))));
   const PolygonSoup soup = read_ply(test::read_file(path), path);
+  const std::vector<test::SoupFace> soup_faces = test::soup_faces(soup);
   ASSERT_EQ(soup.positions.size(), points.size());
   for (std::size_t v = 0; v < points.size(); ++v)
     ASSERT_TRUE(Eigen::Vector3d(points[v].x(), points[v].y(), points[v].z()) == soup.positions[v]) << "vertex " << v;
-  ASSERT_EQ(soup.faces.size(), polygons.size());
+  ASSERT_EQ(soup_faces.size(), polygons.size());
   for (std::size_t f = 0; f < polygons.size(); ++f)
-    ASSERT_EQ(std::vector<std::size_t>(soup.faces[f].vertices.begin(), soup.faces[f].vertices.end()), polygons[f])
+    ASSERT_EQ(std::vector<std::size_t>(soup_faces[f].vertices.begin(), soup_faces[f].vertices.end()), polygons[f])
         << "face " << f;
   ASSERT_EQ(soup.colors.size(), colors.size());
   for (std::size_t v = 0; v < colors.size(); ++v)
@@ -236,12 +240,13 @@ void expect_stl_as_cgal_reads_it(const std::string& path) {
   std::vector<std::array<std::size_t, 3>> triangles;
   ASSERT_TRUE(CGAL::IO::read_STL(is, points, triangles));
   const PolygonSoup soup = read_stl(test::read_file(path), path);
+  const std::vector<test::SoupFace> soup_faces = test::soup_faces(soup);
   ASSERT_EQ(soup.positions.size(), points.size());
   for (std::size_t v = 0; v < points.size(); ++v)
     ASSERT_TRUE(Eigen::Vector3d(points[v].x(), points[v].y(), points[v].z()) == soup.positions[v]) << "vertex " << v;
-  ASSERT_EQ(soup.faces.size(), triangles.size());
+  ASSERT_EQ(soup_faces.size(), triangles.size());
   for (std::size_t f = 0; f < triangles.size(); ++f)
-    ASSERT_EQ(std::vector<std::size_t>(soup.faces[f].vertices.begin(), soup.faces[f].vertices.end()),
+    ASSERT_EQ(std::vector<std::size_t>(soup_faces[f].vertices.begin(), soup_faces[f].vertices.end()),
               std::vector<std::size_t>(triangles[f].begin(), triangles[f].end()))
         << "triangle " << f;
 }
@@ -282,21 +287,24 @@ TEST(StlReader, AgreesWithCgalOnRealFilesAndOurOwnOutput) {
 
 TEST(StlReader, MergesEqualCornersAndReadsTheSolidTrapAsBinary) {
   const PolygonSoup binary = read_stl(tetra_binary_stl(), "t.stl");
+  const std::vector<test::SoupFace> binary_faces = test::soup_faces(binary);
   const PolygonSoup ascii = read_stl(tetra_ascii_stl(), "t.stl");
+  const std::vector<test::SoupFace> ascii_faces = test::soup_faces(ascii);
   EXPECT_EQ(binary.positions.size(), 4u);
   // First seen first: faces {0,2,1}, {0,1,3}, ... number p0, p2, p1, p3.
-  EXPECT_EQ(binary.faces[0].vertices, (std::vector<std::uint32_t>{0, 1, 2}));
-  EXPECT_EQ(binary.faces[3].vertices, (std::vector<std::uint32_t>{2, 1, 3}));
+  EXPECT_EQ(binary_faces[0].vertices, (std::vector<std::uint32_t>{0, 1, 2}));
+  EXPECT_EQ(binary_faces[3].vertices, (std::vector<std::uint32_t>{2, 1, 3}));
   expect_same_soup(binary, ascii);
-  EXPECT_EQ(ascii.faces[1].line, 9u);
+  EXPECT_EQ(ascii_faces[1].line, 9u);
   // -0 and 0 are one point, as in CGAL's map of points.
   Tetra t;
   t.p[3] = {-0.0f, 0.0f, -0.25f};
   t.p.push_back({0.0f, -0.0f, -0.25f});
   t.faces.push_back({4, 1, 2});
   const PolygonSoup zeros = read_stl(tetra_binary_stl(t), "t.stl");
+  const std::vector<test::SoupFace> zeros_faces = test::soup_faces(zeros);
   EXPECT_EQ(zeros.positions.size(), 4u);
-  EXPECT_EQ(zeros.faces[4].vertices, (std::vector<std::uint32_t>{3, 2, 1}));
+  EXPECT_EQ(zeros_faces[4].vertices, (std::vector<std::uint32_t>{3, 2, 1}));
   const std::string path = test::temp_folder("stl_zeros") + "/zeros.stl";
   test::write_file(path, tetra_binary_stl(t));
   expect_stl_as_cgal_reads_it(path);
@@ -461,7 +469,7 @@ TEST(PlyReader, ErrorsNameTheFileAndThePlace) {
   cut += std::string(12 + 2, '\0');
   expect_input_error(read(cut), "f.ply: vertex 1: ", {"the file ends inside it (expected x)"});
   // Padding after a binary file's last element is read past, as exporters pad.
-  EXPECT_EQ(read_ply(binary_triangle() + "xy", "f.ply").faces.size(), read_ply(binary_triangle(), "f.ply").faces.size());
+  EXPECT_EQ(read_ply(binary_triangle() + "xy", "f.ply").elements.size(), read_ply(binary_triangle(), "f.ply").elements.size());
 }
 
 TEST(StlReader, ErrorsNameTheFileAndThePlace) {

@@ -10,7 +10,7 @@
 
 #include "mesh/build_mesh.h"
 #include "mesh/mesh_info.h"
-#include "mesh/mesh_storage.h"
+#include "mesh/halfedge_view_cgal.h"
 #include "remesh/adaptive_remesher.h"
 #include "test_meshes.h"
 #include "warp/bspline_lattice.h"
@@ -48,7 +48,7 @@ Parallelepiped unit_slab() {
 // The mesh's validity as the issue asks: a valid, manifold, triangle mesh with no
 // zero-area faces and finite positions.
 void expect_valid(const Mesh& mesh) {
-  const SurfaceMesh& sm = mesh.storage().sm;
+  const SurfaceMesh sm = surface_mesh(mesh);
   EXPECT_TRUE(sm.is_valid(false));
   EXPECT_TRUE(mesh.is_triangle_mesh());
   EXPECT_FALSE(sm.has_garbage());
@@ -64,7 +64,7 @@ void expect_valid(const Mesh& mesh) {
 void expect_trigger_free(const Mesh& mesh, const Parallelepiped& box, const RemeshStats& stats,
                          const RemeshOptions& options, const std::vector<std::uint8_t>& deformed) {
   if (stats.max_level_hits) return;
-  const SurfaceMesh& sm = mesh.storage().sm;
+  const SurfaceMesh sm = surface_mesh(mesh);
   const double eps_max = 1 - std::cos(options.theta_max_deg * M_PI / 180);
   for (EdgeIndex e : sm.edges()) {
     const VertexIndex b = sm.vertex(e, 0), c = sm.vertex(e, 1);
@@ -110,11 +110,11 @@ TEST(Remesh, RoundTripOnAGentlyCurvedPatchWithUVs) {
   // Rest normals of neighbours diverge far below θmin: every refinement can unwind.
   PolygonSoup soup = test::grid_soup(20, [](double x, double y) { return 0.05 * std::sin(3 * x) * std::cos(2 * y); });
   for (const Eigen::Vector3d& p : soup.positions) soup.uvs.emplace_back(p.x(), p.y());
-  for (SoupFace& f : soup.faces) f.uvs.assign(f.vertices.begin(), f.vertices.end());
+  soup.elements.corner_uvs.assign(soup.elements.corners.begin(), soup.elements.corners.end());
   Deformed s(build_mesh(soup, "patch"), unit_slab(), {6, 6, 4});
   const auto faces = s.mesh.faces();
   const Eigen::Matrix3Xd positions = s.mesh.positions();
-  const auto uvs = s.mesh.storage().uvs;
+  const auto uvs = s.mesh.uvs();
   s.move({3, 2, 2}, {0.1, 0, 0.4});
   s.move({3, 4, 2}, {-0.1, 0.05, -0.3});
   RemeshOptions options;
@@ -122,9 +122,9 @@ TEST(Remesh, RoundTripOnAGentlyCurvedPatchWithUVs) {
   options.theta_min_deg = 8;
   const RemeshStats up = s.remesh(options);
   EXPECT_GT(up.refinements, 20u);
-  EXPECT_GT(s.mesh.storage().uvs.size(), uvs.size());
+  EXPECT_GT(s.mesh.uvs().size(), uvs.size());
   // New corners carry the interpolated UV of the rest-space midpoint.
-  const MeshStorage& st = s.mesh.storage();
+  const HalfedgeView& st = *s.mesh.cached_view();
   for (HalfedgeIndex h : st.sm.halfedges()) {
     if (st.sm.is_border(h)) continue;
     const Eigen::Vector3d rest = st.rest[st.sm.target(h)];
@@ -136,14 +136,15 @@ TEST(Remesh, RoundTripOnAGentlyCurvedPatchWithUVs) {
   EXPECT_EQ(down.decimations, up.refinements);
   EXPECT_EQ(s.mesh.faces(), faces);
   EXPECT_EQ(s.mesh.positions(), positions);
-  EXPECT_EQ(s.mesh.storage().uvs, uvs);
+  EXPECT_EQ(s.mesh.uvs(), uvs);
 }
 
 TEST(Remesh, LevelsFollowThePaper) {
   // One long edge in a two-triangle square, split by length only.
   PolygonSoup soup;
   soup.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-  soup.faces = {{{0, 1, 2}, {}, {}}, {{0, 2, 3}, {}, {}}};
+  soup.elements.add_polygon({0, 1, 2});
+  soup.elements.add_polygon({0, 2, 3});
   Deformed s(build_mesh(soup, "square"), Parallelepiped::from_min_max(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(2, 2, 1)),
           {4, 4, 4});
   RemeshOptions options;
@@ -154,7 +155,7 @@ TEST(Remesh, LevelsFollowThePaper) {
   ASSERT_EQ(levels.size(), 5u);
   EXPECT_EQ(levels[4], 1);  // max(levels of a, b, c, d) + 1
   EXPECT_EQ(s.mesh.rest_positions().col(4), Eigen::Vector3d(0.5, 0.5, 0));
-  const MeshStorage& st = s.mesh.storage();
+  const HalfedgeView& st = *s.mesh.cached_view();
   auto edge_level = st.sm.property_map<EdgeIndex, std::uint8_t>("e:level").first;
   for (EdgeIndex e : st.sm.edges()) {
     const auto a = st.sm.vertex(e, 0).idx(), b = st.sm.vertex(e, 1).idx();
@@ -308,7 +309,7 @@ TEST(Remesh, CurvedRealMeshRoundTripLeavesOnlyBlockedRefinements) {
   // Why each remaining refinement vertex stays, by the paper's rules: an incident edge
   // whose rest normals diverge by θmin or more (the bunny's own curvature at this
   // resolution), or a neighbour of a higher level that stays for that reason.
-  const SurfaceMesh& sm = s.mesh.storage().sm;
+  const SurfaceMesh sm = surface_mesh(s.mesh);
   const std::vector<int> levels = vertex_levels(s.mesh);
   const double eps_min = 1 - std::cos(RemeshOptions{}.theta_min_deg * M_PI / 180);
   std::size_t by_angle = 0, by_neighbour = 0;
@@ -333,14 +334,14 @@ TEST(Remesh, CurvedRealMeshRoundTripLeavesOnlyBlockedRefinements) {
 TEST(Remesh, PolygonFacesAreTriangulatedKeepingCorners) {
   PolygonSoup soup = test::grid_soup(6, nullptr, true);
   for (const Eigen::Vector3d& p : soup.positions) soup.uvs.emplace_back(2 * p.x(), 3 * p.y());
-  for (SoupFace& f : soup.faces) f.uvs.assign(f.vertices.begin(), f.vertices.end());
+  soup.elements.corner_uvs.assign(soup.elements.corners.begin(), soup.elements.corners.end());
   Deformed s(build_mesh(soup, "quads"), unit_slab(), {6, 6, 4});
   RemeshOptions options;
   options.l_max = 1.0;  // nothing to refine: only the triangulation acts
   const RemeshStats stats = s.remesh(options);
   EXPECT_EQ(stats.triangulated_faces, 36u);
   EXPECT_EQ(s.mesh.num_faces(), 72u);
-  const MeshStorage& st = s.mesh.storage();
+  const HalfedgeView& st = *s.mesh.cached_view();
   for (HalfedgeIndex h : st.sm.halfedges())
     if (!st.sm.is_border(h)) {
       EXPECT_EQ(st.uv[h], static_cast<std::int32_t>(st.sm.target(h).idx()));

@@ -30,13 +30,13 @@ PolygonSoup grid_soup(int n, const std::function<double(double, double)>& height
     for (int i = 0; i < n; ++i) {
       const std::uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
       if (quads) {
-        soup.faces.push_back({{a, b, c, d}, {}, {}});
+        soup.elements.add_polygon({a, b, c, d});
       } else if ((i + j) % 2 == 0) {
-        soup.faces.push_back({{a, b, c}, {}, {}});
-        soup.faces.push_back({{a, c, d}, {}, {}});
+        soup.elements.add_polygon({a, b, c});
+        soup.elements.add_polygon({a, c, d});
       } else {
-        soup.faces.push_back({{a, b, d}, {}, {}});
-        soup.faces.push_back({{b, c, d}, {}, {}});
+        soup.elements.add_polygon({a, b, d});
+        soup.elements.add_polygon({b, c, d});
       }
     }
   return soup;
@@ -76,7 +76,7 @@ Mesh sphere_mesh(int levels) {
     }
     tris = next;
   }
-  for (const auto& f : tris) soup.faces.push_back({{f[0], f[1], f[2]}, {}, {}});
+  for (const auto& f : tris) soup.elements.add_polygon({f[0], f[1], f[2]});
   return build_mesh(soup, "sphere");
 }
 
@@ -191,6 +191,36 @@ nlohmann::json without_measurements(nlohmann::json j) {
   if (j.is_array())
     for (auto& e : j) e = without_measurements(e);
   return j;
+}
+
+std::vector<SoupFace> soup_faces(const PolygonSoup& soup) {
+  const MeshElements& el = soup.elements;
+  std::vector<SoupFace> faces;
+  for (std::size_t e = 0; e < el.size(); ++e) {
+    if (el.kinds[e] != ElementKind::Polygon) continue;
+    SoupFace f;
+    bool any_uv = false, any_vn = false;
+    for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) {
+      f.vertices.push_back(el.corners[c]);
+      f.uvs.push_back(el.uv(c));
+      f.normals.push_back(el.normal(c));
+      any_uv = any_uv || el.uv(c) >= 0;
+      any_vn = any_vn || el.normal(c) >= 0;
+    }
+    if (!any_uv) f.uvs.clear();
+    if (!any_vn) f.normals.clear();
+    f.group = el.group(e);
+    f.line = el.line(e);
+    faces.push_back(std::move(f));
+  }
+  return faces;
+}
+
+void add_face(PolygonSoup& soup, const std::vector<std::uint32_t>& vertices, const std::vector<std::int32_t>& uvs,
+              const std::vector<std::int32_t>& normals, std::int32_t group) {
+  for (std::size_t c = 0; c < vertices.size(); ++c)
+    soup.elements.add_corner(vertices[c], uvs.empty() ? -1 : uvs[c], normals.empty() ? -1 : normals[c]);
+  soup.elements.close(ElementKind::Polygon, group);
 }
 
 }  // namespace ffd::test

@@ -59,4 +59,21 @@ std::set<std::string> files_in(const std::string& dir);
 /// comparing runs.
 nlohmann::json without_measurements(nlohmann::json j);
 
+/// One polygon of a soup as separate vectors, for tests that read a reader's output
+/// face by face; uvs / normals are empty when none of the face's corners has one.
+struct SoupFace {
+  std::vector<std::uint32_t> vertices;
+  std::vector<std::int32_t> uvs, normals;
+  std::int32_t group = -1;
+  std::size_t line = 0;
+};
+
+/// The polygons of `soup` (lines and points left out), in order.
+std::vector<SoupFace> soup_faces(const PolygonSoup& soup);
+
+/// Appends a polygon to `soup`; uvs / normals, when given, one per corner.
+void add_face(PolygonSoup& soup, const std::vector<std::uint32_t>& vertices,
+              const std::vector<std::int32_t>& uvs = {}, const std::vector<std::int32_t>& normals = {},
+              std::int32_t group = -1);
+
 }  // namespace ffd::test

@@ -8,7 +8,7 @@
 #include <random>
 #include <set>
 
-#include "mesh/mesh_storage.h"
+#include "mesh/halfedge_view_cgal.h"
 #include "remesh/adaptive_remesher.h"
 #include "test_meshes.h"
 #include "warp/bernstein_lattice.h"
@@ -189,7 +189,7 @@ TEST(WarpSeams, StackLmaxIsTheSmallestFeatureSizeOfItsWarps) {
 
 // The names of every Surface_mesh property, per element kind.
 std::set<std::string> property_names(const Mesh& mesh) {
-  const SurfaceMesh& sm = mesh.storage().sm;
+  const SurfaceMesh sm = surface_mesh(mesh);
   std::set<std::string> names;
   for (const std::string& n : sm.properties<VertexIndex>()) names.insert(n);
   for (const std::string& n : sm.properties<HalfedgeIndex>()) names.insert(n);

@@ -13,7 +13,7 @@
 #include "bench.h"
 #include "common/timer.h"
 #include "mesh/build_mesh.h"
-#include "mesh/mesh_storage.h"
+#include "mesh/halfedge_view_cgal.h"
 
 namespace ffd::bench {
 namespace {
@@ -120,18 +120,17 @@ FairBaseline fair_baseline(const Mesh& mesh, const std::vector<std::uint32_t>& h
                            const Eigen::Matrix3Xd& ours) {
   const auto positions = mesh.positions();
   Mesh copy = mesh.clone();
-  SurfaceMesh& sm = copy.storage().sm;
   auto cpos = copy.positions();
   for (std::uint32_t v : handle) cpos.col(v) = pose.linear * positions.col(v) + pose.translation;
+  SurfaceMesh sm = surface_mesh(copy);
   std::vector<VertexIndex> fair_vertices;
   for (std::uint32_t v : free) fair_vertices.push_back(VertexIndex(v));
-  Mesh setup_copy = copy.clone();
+  SurfaceMesh setup_sm = sm;
   FairBaseline b;
   Stopwatch fair_clock;
   b.ok = CGAL::Polygon_mesh_processing::fair(sm, fair_vertices,
                                              CGAL::parameters::fairing_continuity(static_cast<unsigned>(k - 1)));
   b.ms = fair_clock.ms();
-  SurfaceMesh& setup_sm = setup_copy.storage().sm;
   auto setup_points = setup_sm.add_property_map<VertexIndex, Point3>("v:bench_setup").first;
   for (VertexIndex v : setup_sm.vertices()) setup_points[v] = to_point(positions.col(v.idx()));
   using SetupWeights =
@@ -143,8 +142,8 @@ FairBaseline fair_baseline(const Mesh& mesh, const std::vector<std::uint32_t>& h
           .weight_calculator(SetupWeights(setup_sm, setup_points)));
   b.setup_weights_ms = setup_fair_clock.ms();
   for (std::uint32_t v : free) {
-    b.difference = std::max(b.difference, (ours.col(v) - copy.positions().col(v)).norm());
-    b.setup_difference = std::max(b.setup_difference, (ours.col(v) - setup_copy.positions().col(v)).norm());
+    b.difference = std::max(b.difference, (ours.col(v) - to_eigen(sm.point(VertexIndex(v)))).norm());
+    b.setup_difference = std::max(b.setup_difference, (ours.col(v) - to_eigen(setup_sm.point(VertexIndex(v)))).norm());
     b.displacement = std::max(b.displacement, (ours.col(v) - positions.col(v)).norm());
   }
   return b;
@@ -246,10 +245,12 @@ Mesh wavy_strip(int nx, std::vector<std::uint32_t>& support, std::vector<std::ui
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       const auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (nx + 1) + a); };
-      soup.faces.push_back({{at(i, j), at(i + 1, j), at(i + 1, j + 1)}, {}, {}});
-      soup.faces.push_back({{at(i, j), at(i + 1, j + 1), at(i, j + 1)}, {}, {}});
+      for (std::uint32_t v : {at(i, j), at(i + 1, j), at(i + 1, j + 1)}) soup.elements.add_corner(v);
+      soup.elements.close(ElementKind::Polygon);
+      for (std::uint32_t v : {at(i, j), at(i + 1, j + 1), at(i, j + 1)}) soup.elements.add_corner(v);
+      soup.elements.close(ElementKind::Polygon);
     }
-  return build_mesh(soup, "strip");
+  return build_mesh(std::move(soup), "strip");
 }
 
 // The other setups at k = 3, without a baseline: a blended outer boundary on the cap

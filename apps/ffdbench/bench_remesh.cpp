@@ -24,7 +24,8 @@
 #include "bench.h"
 #include "common/timer.h"
 #include "mesh/build_mesh.h"
-#include "mesh/mesh_storage.h"
+#include "mesh/halfedge_view_cgal.h"
+#include "mesh/mesh_info.h"
 #include "remesh/adaptive_remesher.h"
 #include "warp/bspline_lattice.h"
 #include "warp/warp_stack.h"
@@ -52,12 +53,12 @@ Mesh midpoint_subdivision(const Mesh& mesh) {
   };
   for (const auto& f : mesh.faces()) {
     const std::uint32_t ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
-    soup.faces.push_back({{f[0], ab, ca}, {}, {}});
-    soup.faces.push_back({{f[1], bc, ab}, {}, {}});
-    soup.faces.push_back({{f[2], ca, bc}, {}, {}});
-    soup.faces.push_back({{ab, bc, ca}, {}, {}});
+    soup.elements.add_polygon({f[0], ab, ca});
+    soup.elements.add_polygon({f[1], bc, ab});
+    soup.elements.add_polygon({f[2], ca, bc});
+    soup.elements.add_polygon({ab, bc, ca});
   }
-  return build_mesh(soup, "subdivision");
+  return build_mesh(std::move(soup), "subdivision");
 }
 
 // A deformation: lattice over the mesh's padded box, then point moves.
@@ -105,13 +106,13 @@ std::unique_ptr<WarpStack> deform(Mesh& mesh, const Parallelepiped& box, const D
 class SurfaceDistance {
 public:
   explicit SurfaceDistance(const Mesh& surface)
-      : sm_(surface.storage().sm), tree_(faces(sm_).first, faces(sm_).second, sm_) {
+      : sm_(surface_mesh(surface)), tree_(faces(sm_).first, faces(sm_).second, sm_) {
     tree_.accelerate_distance_queries();
   }
   // Largest and mean distance of `from`'s vertices (and, with `dense`, its edge midpoints
   // and face centroids) to the surface.
   std::pair<double, double> from(const Mesh& from, bool dense) const {
-    const SurfaceMesh& sm = from.storage().sm;
+    const SurfaceMesh sm = surface_mesh(from);
     double worst = 0, sum = 0;
     std::size_t n = 0;
     const auto sample = [&](const Point3& p) {
@@ -134,7 +135,7 @@ public:
 private:
   using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-  const SurfaceMesh& sm_;
+  const SurfaceMesh sm_;
   Tree tree_;
 };
 
@@ -315,7 +316,7 @@ json speed(Context& ctx, const Mesh& input, const std::string& name) {
   // Level bookkeeping: one byte per vertex (level), one per edge (level), four per face
   // (the first vertex, so unwound faces come back as written).
   const double bytes_per_face =
-      (double(mesh.num_vertices()) * 1 + double(mesh.num_edges()) * 1 + double(mesh.num_faces()) * 4) /
+      (double(mesh.num_vertices()) * 1 + double(mesh_info(mesh).edges) * 1 + double(mesh.num_faces()) * 4) /
       double(mesh.num_faces());
   // The whole step, ms: the lattice update plus test, refine, decimate.
   const double step_parts = update_ms + step_stats.ms_test + step_stats.ms_refine + step_stats.ms_decimate;

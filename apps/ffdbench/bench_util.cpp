@@ -9,7 +9,7 @@
 #include "common/errors.h"
 #include "common/timer.h"
 #include "mesh/mesh_io.h"
-#include "mesh/mesh_storage.h"
+#include "mesh/halfedge_view_cgal.h"
 
 namespace ffd::bench {
 
@@ -34,14 +34,10 @@ Mesh load(const Context& ctx, const std::string& name) {
 }
 
 Mesh subdivided(const Mesh& mesh, std::size_t min_vertices) {
-  Mesh out = mesh.clone();
-  SurfaceMesh& sm = out.storage().sm;
+  SurfaceMesh sm = surface_mesh(mesh);
   while (sm.number_of_vertices() < min_vertices)
     CGAL::Subdivision_method_3::Loop_subdivision(sm, CGAL::parameters::number_of_iterations(1));
-  out.storage().bind();
-  out.rest_positions() = out.positions();
-  out.recompute_rest_normals(true);
-  return out;
+  return mesh_from_surface(sm, mesh.source());
 }
 
 }  // namespace ffd::bench

@@ -73,7 +73,11 @@ nlohmann::json mesh_info_json(const ffd::MeshInfo& info) {
           {"faces", info.faces},
           {"edges", info.edges},
           {"faces_by_degree", by_degree},
+          {"lines", info.lines},
+          {"points", info.points},
           {"boundary_edges", info.boundary_edges},
+          {"non_manifold_edges", info.non_manifold_edges},
+          {"manifold", info.manifold_problem.empty()},
           {"boundary_loops", info.boundary_loops},
           {"components", info.components},
           {"isolated_vertices", info.isolated_vertices},
@@ -105,6 +109,9 @@ int command_info(const std::string& path, bool as_json) {
   std::printf("  vertices   %s (%s isolated)\n", ffd::format_count(info.vertices).c_str(),
               ffd::format_count(info.isolated_vertices).c_str());
   std::printf("  faces      %s (%s)\n", ffd::format_count(info.faces).c_str(), kinds.c_str());
+  if (info.lines || info.points)
+    std::printf("  also       %s lines, %s point elements\n", ffd::format_count(info.lines).c_str(),
+                ffd::format_count(info.points).c_str());
   std::printf("  edges      %s (%s on the boundary, %zu boundary loops)\n", ffd::format_count(info.edges).c_str(),
               ffd::format_count(info.boundary_edges).c_str(), info.boundary_loops);
   std::printf("  pieces     %zu connected, Euler characteristic %ld, %s\n", info.components, info.euler,
@@ -113,6 +120,9 @@ int command_info(const std::string& path, bool as_json) {
               info.max[0], info.max[1], info.max[2], info.diagonal);
   std::printf("  edges len  min %g, mean %g, max %g\n", info.min_edge, info.mean_edge, info.max_edge);
   std::printf("  degenerate %s zero-area faces\n", ffd::format_count(info.degenerate_faces).c_str());
+  std::printf("  topology   %s\n", info.manifold_problem.empty()
+                                         ? "an oriented 2-manifold (remesh and bcm accept it)"
+                                         : ("not a 2-manifold, so remesh and bcm refuse it: " + info.manifold_problem).c_str());
   std::printf("  carries    %s%s%s\n", info.has_uvs ? "UVs " : "", info.has_normals ? "normals " : "",
               info.has_colors ? "colours" : (info.has_uvs || info.has_normals ? "" : "positions only"));
   return 0;

@@ -9,7 +9,7 @@
 
 #include "common/errors.h"
 #include "bcm/bcm_options.h"
-#include "mesh/mesh_storage.h"
+#include "mesh/halfedge_view_cgal.h"
 
 namespace ffd {
 namespace {

@@ -1,5 +1,7 @@
 #include "bcm/bcm_editor.h"
 
+#include "mesh/halfedge_view.h"
+
 #include <Eigen/UmfPackSupport>
 
 #include <algorithm>
@@ -317,6 +319,9 @@ BcmData bcm_precompute(const Mesh& mesh, const std::vector<std::uint32_t>& suppo
     done += kWeights[phase];
     if (progress) progress(phase == last ? 1.0 : std::min(1.0, done / total));
   };
+  // Cotangent Laplacians, rings and the conformal parametrization assume an oriented
+  // 2-manifold: refuse anything else up front, naming the element.
+  check_two_manifold(mesh);
   BcmData data;
   bcm_regions_and_rings(data, mesh, support, handles, options);
   phase_done(0);

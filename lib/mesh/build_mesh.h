@@ -8,15 +8,14 @@
 
 namespace ffd {
 
-/// Builds a Mesh from `soup`, keeping vertex and face order, per-corner UV and normal
-/// indices, colours, groups and header lines. Rest positions and current positions are
-/// the soup's positions; rest and current normals are computed (angle-weighted).
-/// \throw InputError naming `file` and the face's line (or index) when a face has fewer
-/// than three vertices, repeats a vertex, indexes past the end, or would make the mesh
-/// non-manifold or inconsistently oriented.
-Mesh build_mesh(const PolygonSoup& soup, const std::string& file);
-
-/// "file:line" when the line is known, else "file: face N" (0-based), for messages.
-std::string face_place(const std::string& file, const SoupFace& face, std::size_t index);
+/// Builds a Mesh from `soup` (pass it with std::move: its arrays move into the mesh), keeping vertex and element order,
+/// per-corner UV and normal indices, colours, groups and header lines. Rest positions
+/// and current positions are the soup's positions; rest and current normals are
+/// computed (angle-weighted over the polygons). Any polygon soup is accepted: flipped,
+/// duplicate, non-manifold or degenerate faces are the halfedge view's business
+/// (halfedge_view.h), not a space warp's.
+/// \throw InputError naming `file` and the element's line (or index) when an element
+/// has no corner or indexes a vertex, texture coordinate or normal past the end.
+Mesh build_mesh(PolygonSoup soup, const std::string& file);
 
 }  // namespace ffd

@@ -1,166 +1,135 @@
 #include "mesh/mesh.h"
 
-#include "mesh/mesh_storage.h"
+#include <algorithm>
+
+#include "common/errors.h"
+#include "mesh/halfedge_view.h"
 #include "mesh/vertex_colors.h"
 #include "mesh/vertex_normals.h"
 
 namespace ffd {
 
-MeshStorage::MeshStorage() {
-  rest = sm.add_property_map<VertexIndex, Eigen::Vector3d>("v:rest", Eigen::Vector3d::Zero()).first;
-  rest_normal =
-      sm.add_property_map<VertexIndex, Eigen::Vector3d>("v:rest_normal", Eigen::Vector3d::Zero()).first;
-  normal = sm.add_property_map<VertexIndex, Eigen::Vector3d>("v:normal", Eigen::Vector3d::Zero()).first;
-  uv = sm.add_property_map<HalfedgeIndex, std::int32_t>("h:uv", -1).first;
-  vn = sm.add_property_map<HalfedgeIndex, std::int32_t>("h:vn", -1).first;
-  group = sm.add_property_map<FaceIndex, std::int32_t>("f:group", -1).first;
+void throw_too_many_corners() {
+  throw InputError("more than 4,294,967,295 element corners: ffdtool indexes corners with 32 bits");
 }
 
-MeshStorage::MeshStorage(const MeshStorage& other)
-    : sm(other.sm),
-      uvs(other.uvs),
-      file_normals(other.file_normals),
-      groups(other.groups),
-      header(other.header),
-      has_uvs(other.has_uvs),
-      has_file_normals(other.has_file_normals),
-      has_colors(other.has_colors),
-      topology_version(other.topology_version),
-      file_uv_count(other.file_uv_count),
-      file_normal_count(other.file_normal_count) {
-  bind();
+std::string element_place(const std::string& file, const MeshElements& elements, std::size_t e) {
+  if (elements.line(e) > 0) return file + ":" + std::to_string(elements.line(e));
+  const bool all_polygons = std::all_of(elements.kinds.begin(), elements.kinds.end(),
+                                        [](ElementKind k) { return k == ElementKind::Polygon; });
+  return file + (all_polygons ? ": face " : ": element ") + std::to_string(e);
 }
 
-void MeshStorage::bind() {
-  rest = sm.property_map<VertexIndex, Eigen::Vector3d>("v:rest").first;
-  rest_normal = sm.property_map<VertexIndex, Eigen::Vector3d>("v:rest_normal").first;
-  normal = sm.property_map<VertexIndex, Eigen::Vector3d>("v:normal").first;
-  uv = sm.property_map<HalfedgeIndex, std::int32_t>("h:uv").first;
-  vn = sm.property_map<HalfedgeIndex, std::int32_t>("h:vn").first;
-  group = sm.property_map<FaceIndex, std::int32_t>("f:group").first;
-  if (has_colors) color = sm.property_map<VertexIndex, Eigen::Vector3f>("v:color").first;
-}
-
-void MeshStorage::enable_colors() {
-  color = sm.add_property_map<VertexIndex, Eigen::Vector3f>("v:color", Eigen::Vector3f(0.8f, 0.8f, 0.8f))
-              .first;
-  has_colors = true;
-}
-
-namespace {
-
-// The Surface_mesh property name behind Mesh::vec3_attribute(name).
-std::string attribute_name(const std::string& name) { return "v:attr:" + name; }
-
-}  // namespace
-
-Vec3Property MeshStorage::vec3_attribute(const std::string& name) {
-  return sm.add_property_map<VertexIndex, Eigen::Vector3d>(attribute_name(name), Eigen::Vector3d::Zero()).first;
-}
-
-namespace {
-
-// (An empty mesh maps no memory: CGAL's data() indexes its first element, undefined when
-// there is none.)
-Vec3Array vec3_map(SurfaceMesh::Property_map<VertexIndex, Eigen::Vector3d>& map, std::size_t n) {
-  return {n ? const_cast<double*>(reinterpret_cast<const double*>(map.data())) : nullptr, 3,
-          static_cast<Eigen::Index>(n)};
-}
-
-ConstVec3Array const_vec3_map(const SurfaceMesh::Property_map<VertexIndex, Eigen::Vector3d>& map,
-                              std::size_t n) {
-  return {n ? reinterpret_cast<const double*>(map.data()) : nullptr, 3, static_cast<Eigen::Index>(n)};
-}
-
-}  // namespace
-
-Mesh::Mesh() : storage_(std::make_unique<MeshStorage>()) {}
+Mesh::Mesh() = default;
 Mesh::~Mesh() = default;
 Mesh::Mesh(Mesh&&) noexcept = default;
 Mesh& Mesh::operator=(Mesh&&) noexcept = default;
 
 Mesh Mesh::clone() const {
   Mesh copy;
-  copy.storage_ = std::make_unique<MeshStorage>(*storage_);
+  copy.rest_ = rest_;
+  copy.pos_ = pos_;
+  copy.rest_normal_ = rest_normal_;
+  copy.normal_ = normal_;
+  copy.attributes_ = attributes_;
+  copy.colors_ = colors_;
+  copy.elements_ = elements_;
+  copy.num_polygons_ = num_polygons_;
+  copy.polygon_element_ = polygon_element_;
+  copy.uvs_ = uvs_;
+  copy.file_normals_ = file_normals_;
+  copy.groups_ = groups_;
+  copy.header_ = header_;
+  copy.file_uv_count = file_uv_count;
+  copy.file_normal_count = file_normal_count;
+  copy.source_ = source_;
+  copy.vertex_levels_ = vertex_levels_;
+  copy.edge_levels_ = edge_levels_;
+  copy.topology_version_ = topology_version_;
+  if (view_) copy.view_ = copy_view(*view_);
+  copy.view_version_ = view_version_;
   return copy;
 }
 
-std::size_t Mesh::num_vertices() const { return storage_->sm.number_of_vertices(); }
-std::size_t Mesh::num_faces() const { return storage_->sm.number_of_faces(); }
-std::size_t Mesh::num_edges() const { return storage_->sm.number_of_edges(); }
-
 bool Mesh::is_triangle_mesh() const {
-  const SurfaceMesh& sm = storage_->sm;
-  for (FaceIndex f : sm.faces())
-    if (sm.degree(f) != 3) return false;
+  for (std::size_t e = 0; e < elements_.size(); ++e)
+    if (elements_.kinds[e] == ElementKind::Polygon && elements_.degree(e) != 3) return false;
   return true;
 }
 
-Vec3Array Mesh::rest_positions() { return vec3_map(storage_->rest, num_vertices()); }
-ConstVec3Array Mesh::rest_positions() const { return const_vec3_map(storage_->rest, num_vertices()); }
-Vec3Array Mesh::positions() { return point_array(storage_->sm); }
-ConstVec3Array Mesh::positions() const {
-  return {reinterpret_cast<const double*>(storage_->sm.points().data()), 3,
-          static_cast<Eigen::Index>(num_vertices())};
+namespace {
+
+// m with n columns: the first min(n, old) kept, the rest zero.
+void resize_columns(Eigen::Matrix3Xd& m, Eigen::Index n) {
+  const Eigen::Index old = m.cols();
+  m.conservativeResize(3, n);
+  if (n > old) m.rightCols(n - old).setZero();
 }
-Vec3Array Mesh::rest_normals() { return vec3_map(storage_->rest_normal, num_vertices()); }
-ConstVec3Array Mesh::rest_normals() const {
-  return const_vec3_map(storage_->rest_normal, num_vertices());
+
+}  // namespace
+
+void Mesh::resize_vertices(std::size_t count) {
+  const auto n = static_cast<Eigen::Index>(count);
+  for (Eigen::Matrix3Xd* m : {&rest_, &pos_, &rest_normal_, &normal_}) resize_columns(*m, n);
+  for (auto& [name, m] : attributes_) resize_columns(m, n);
+  if (!colors_.empty()) colors_.resize(count, Eigen::Vector3f(0.8f, 0.8f, 0.8f));
+  if (!vertex_levels_.empty()) vertex_levels_.resize(count, 0);
 }
-Vec3Array Mesh::normals() { return vec3_map(storage_->normal, num_vertices()); }
-ConstVec3Array Mesh::normals() const { return const_vec3_map(storage_->normal, num_vertices()); }
 
 Vec3Array Mesh::vec3_attribute(const std::string& name) {
-  Vec3Property map = storage_->vec3_attribute(name);
-  return vec3_map(map, num_vertices());
+  auto [it, created] = attributes_.try_emplace(name);
+  if (created) it->second = Eigen::Matrix3Xd::Zero(3, pos_.cols());
+  return map(it->second);
 }
 
-bool Mesh::has_vec3_attribute(const std::string& name) const {
-  return storage_->sm.property_map<VertexIndex, Eigen::Vector3d>(attribute_name(name)).second;
+bool Mesh::has_vec3_attribute(const std::string& name) const { return attributes_.count(name) > 0; }
+void Mesh::remove_vec3_attribute(const std::string& name) { attributes_.erase(name); }
+
+std::vector<std::string> Mesh::vec3_attribute_names() const {
+  std::vector<std::string> names;
+  for (const auto& [name, m] : attributes_) names.push_back(name);
+  return names;
 }
 
-void Mesh::remove_vec3_attribute(const std::string& name) {
-  auto map = storage_->sm.property_map<VertexIndex, Eigen::Vector3d>(attribute_name(name));
-  if (map.second) storage_->sm.remove_property_map(map.first);
+std::vector<std::string> Mesh::attribute_names() const {
+  std::vector<std::string> names;
+  for (const auto& [name, m] : attributes_) names.push_back("v:attr:" + name);
+  if (!vertex_levels_.empty()) names.push_back(mesh_attribute::kVertexLevel);
+  if (!edge_levels_.empty()) names.push_back(mesh_attribute::kEdgeLevel);
+  if (view_)
+    for (std::string& n : view_property_names(*view_)) names.push_back("view " + n);
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
-void Mesh::face_vertices(std::size_t f, std::vector<std::uint32_t>& out) const {
-  const SurfaceMesh& sm = storage_->sm;
-  out.clear();
-  for (VertexIndex v : CGAL::vertices_around_face(sm.halfedge(FaceIndex(static_cast<std::uint32_t>(f))), sm))
-    out.push_back(static_cast<std::uint32_t>(v.idx()));
+void Mesh::set_elements(MeshElements elements) {
+  elements_ = std::move(elements);
+  num_polygons_ = elements_.count(ElementKind::Polygon);
+  polygon_element_.clear();
+  if (num_polygons_ != elements_.size())
+    for (std::size_t e = 0; e < elements_.size(); ++e)
+      if (elements_.kinds[e] == ElementKind::Polygon) polygon_element_.push_back(static_cast<std::uint32_t>(e));
 }
 
 std::vector<std::vector<std::uint32_t>> Mesh::faces() const {
-  std::vector<std::vector<std::uint32_t>> result(num_faces());
-  for (std::size_t f = 0; f < result.size(); ++f) face_vertices(f, result[f]);
+  std::vector<std::vector<std::uint32_t>> result;
+  result.reserve(num_polygons_);
+  for (std::size_t e = 0; e < elements_.size(); ++e)
+    if (elements_.kinds[e] == ElementKind::Polygon)
+      result.emplace_back(elements_.vertices(e), elements_.vertices(e) + elements_.degree(e));
   return result;
 }
 
-bool Mesh::has_uvs() const { return storage_->has_uvs; }
-bool Mesh::has_file_normals() const { return storage_->has_file_normals; }
-bool Mesh::has_colors() const { return storage_->has_colors; }
-
-std::uint64_t Mesh::topology_version() const { return storage_->topology_version; }
-void Mesh::mark_topology_changed() { ++storage_->topology_version; }
-
 void Mesh::bake() {
-  rest_positions() = positions();
-  rest_normals() = normals();
+  rest_ = pos_;
+  rest_normal_ = normal_;
 }
 
 void Mesh::recompute_rest_normals(bool also_current) {
   compute_vertex_normals(*this, rest_positions(), rest_normals());
-  if (also_current) normals() = rest_normals();
+  if (also_current) normal_ = rest_normal_;
 }
 
-std::vector<Eigen::Vector3f> color_array(const Mesh& mesh) {
-  const MeshStorage& s = mesh.storage();
-  std::vector<Eigen::Vector3f> colors;
-  if (!s.has_colors) return colors;
-  colors.resize(s.sm.number_of_vertices());
-  for (VertexIndex v : s.sm.vertices()) colors[v.idx()] = s.color[v];
-  return colors;
-}
+std::vector<Eigen::Vector3f> color_array(const Mesh& mesh) { return mesh.colors(); }
 
 }  // namespace ffd

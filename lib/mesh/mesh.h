@@ -6,25 +6,30 @@
 //   (deformed) position, a rest normal and a current normal;
 // - file attributes survive every step: per-corner UVs and normals (OBJ), vertex colours,
 //   OBJ groups and material statements;
-// - the mesh is an oriented 2-manifold polygon mesh, boundaries allowed, isolated vertices
-//   allowed (a point cloud deforms too);
+// - the elements are the file's, in order (mesh_elements.h): polygons of any size,
+//   orientation or multiplicity, lines and points; no topology is assumed, so a space
+//   warp acts on any of it (a point cloud deforms too). Ops that need an oriented
+//   2-manifold build a checked halfedge view on demand (halfedge_view.h);
 // - besides these, the mesh carries only the declared attributes below (refinement
 //   levels, face starts, named vec3 attributes); an op's scratch data is removed before
 //   the op returns.
-// Storage is a CGAL::Surface_mesh behind MeshStorage (mesh_storage.h); this header keeps
-// CGAL out of code that only needs positions.
+// Storage is plain arrays: 3 × n matrices per vertex, flat index arrays per element. The
+// halfedge view a remesh step builds is kept (cached) while the connectivity stays as it
+// left it, so consecutive remesh steps see the same halfedge and edge numbering.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "mesh/mesh_elements.h"
+
 namespace ffd {
 
-struct MeshStorage;
-struct PolygonSoup;
+struct HalfedgeView;
 
 /// Declared attributes: what steps other than the file's own data leave on a mesh, by
 /// name. Each persists through every later step (copies and connectivity changes too),
@@ -38,7 +43,7 @@ struct PolygonSoup;
 ///   step is written starting where it was;
 /// - vec3 attributes (Mesh::vec3_attribute), e.g. each warp's input positions and normals
 ///   while the warp is on the stack (WarpStack::input_attribute()).
-/// Stored as CGAL Surface_mesh properties under these names (mesh_storage.h).
+/// The names are what Mesh::attribute_names() lists.
 namespace mesh_attribute {
 /// Per vertex, RefinementLevel: 0 for input vertices, max(level of a, b, c, d) + 1 for
 /// the midpoint of a split edge bc (faces abc, bcd).
@@ -46,7 +51,8 @@ inline constexpr char kVertexLevel[] = "v:level";
 /// Per edge, RefinementLevel: 0 for input edges; a split's new edges am, dm take the
 /// midpoint's level and its halves keep bc's.
 inline constexpr char kEdgeLevel[] = "e:level";
-/// Per face, std::uint32_t: the index of the vertex the face's corners start at.
+/// Per face of the halfedge view, std::uint32_t: the index of the vertex the face's
+/// corners start at (in the arrays, a polygon's corners simply start there).
 inline constexpr char kFaceStart[] = "f:start";
 }  // namespace mesh_attribute
 
@@ -57,6 +63,12 @@ using RefinementLevel = std::uint8_t;
 using Vec3Array = Eigen::Map<Eigen::Matrix3Xd>;
 using ConstVec3Array = Eigen::Map<const Eigen::Matrix3Xd>;
 
+/// A refinement-made edge's level (mesh_attribute::kEdgeLevel), by its vertices a < b.
+struct EdgeLevel {
+  std::uint32_t a = 0, b = 0;
+  RefinementLevel level = 0;
+};
+
 class Mesh {
 public:
   Mesh();
@@ -65,47 +77,98 @@ public:
   Mesh& operator=(Mesh&&) noexcept;
   Mesh(const Mesh&) = delete;
   Mesh& operator=(const Mesh&) = delete;
-  /// A deep copy, attributes included.
+  /// A deep copy, attributes (and a cached halfedge view) included.
   Mesh clone() const;
 
-  std::size_t num_vertices() const;
-  std::size_t num_faces() const;
-  std::size_t num_edges() const;
-  /// True when every face is a triangle.
+  std::size_t num_vertices() const { return static_cast<std::size_t>(pos_.cols()); }
+  /// The number of polygon elements (faces); lines and points are not faces.
+  std::size_t num_faces() const { return num_polygons_; }
+  std::size_t num_elements() const { return elements_.size(); }
+  /// True when every polygon is a triangle.
   bool is_triangle_mesh() const;
 
+  /// Sets the vertex count to n: positions, normals and every per-vertex attribute are
+  /// kept for the first min(n, old) vertices and zero past them.
+  void resize_vertices(std::size_t n);
+
   /// Rest positions: where each vertex lives before the warps of the current stack.
-  Vec3Array rest_positions();
-  ConstVec3Array rest_positions() const;
+  Vec3Array rest_positions() { return map(rest_); }
+  ConstVec3Array rest_positions() const { return map(rest_); }
   /// Current (deformed) positions: what is written on save.
-  Vec3Array positions();
-  ConstVec3Array positions() const;
-  /// Unit rest normals (angle-weighted from the rest mesh); zero at isolated vertices.
-  Vec3Array rest_normals();
-  ConstVec3Array rest_normals() const;
+  Vec3Array positions() { return map(pos_); }
+  ConstVec3Array positions() const { return map(pos_); }
+  /// Unit rest normals (angle-weighted over the polygons); zero where no polygon is.
+  Vec3Array rest_normals() { return map(rest_normal_); }
+  ConstVec3Array rest_normals() const { return map(rest_normal_); }
   /// Unit current normals: rest normals carried through the warps (covariant rule).
-  Vec3Array normals();
-  ConstVec3Array normals() const;
+  Vec3Array normals() { return map(normal_); }
+  ConstVec3Array normals() const { return map(normal_); }
 
   /// A named per-vertex 3-vector array owned by the mesh, created (zero) if missing.
   /// It follows the vertices through every connectivity change.
   Vec3Array vec3_attribute(const std::string& name);
   bool has_vec3_attribute(const std::string& name) const;
   void remove_vec3_attribute(const std::string& name);
+  /// The names of the vec3 attributes, sorted.
+  std::vector<std::string> vec3_attribute_names() const;
+  /// Every attribute the mesh carries besides its file data, by the names of
+  /// mesh_attribute (vec3 attributes as "v:attr:NAME", a cached halfedge view's own
+  /// properties by their names), sorted: what a test checks for leftover scratch data.
+  std::vector<std::string> attribute_names() const;
 
-  /// The vertex indices of face f, in order.
-  void face_vertices(std::size_t f, std::vector<std::uint32_t>& out) const;
-  /// All faces as index lists, in face order.
+  /// The file's elements in order. An op that changes them calls set_elements() and,
+  /// when the connectivity differs, mark_topology_changed().
+  const MeshElements& elements() const { return elements_; }
+  void set_elements(MeshElements elements);
+  /// The elements, for edits that keep the connectivity (corner attributes, groups).
+  MeshElements& corner_data() { return elements_; }
+  /// The vertex indices of polygon f (the f-th polygon element), in order.
+  void face_vertices(std::size_t f, std::vector<std::uint32_t>& out) const {
+    const std::size_t e = polygon_element_.empty() ? f : polygon_element_[f];
+    out.assign(elements_.vertices(e), elements_.vertices(e) + elements_.degree(e));
+  }
+  /// The element index of polygon f.
+  std::size_t polygon_element(std::size_t f) const { return polygon_element_.empty() ? f : polygon_element_[f]; }
+  /// The vertex indices of every polygon, in order (a copy; for tests and small tools).
   std::vector<std::vector<std::uint32_t>> faces() const;
 
-  bool has_uvs() const;
-  bool has_file_normals() const;
-  bool has_colors() const;
+  /// Tables the elements' corners index: texture coordinates, file normals (rest space;
+  /// transformed on save), OBJ grouping states; and the OBJ header lines (mtllib).
+  std::vector<Eigen::Vector2d>& uvs() { return uvs_; }
+  const std::vector<Eigen::Vector2d>& uvs() const { return uvs_; }
+  std::vector<Eigen::Vector3d>& file_normals() { return file_normals_; }
+  const std::vector<Eigen::Vector3d>& file_normals() const { return file_normals_; }
+  std::vector<ObjState>& groups() { return groups_; }
+  const std::vector<ObjState>& groups() const { return groups_; }
+  std::vector<std::string>& header() { return header_; }
+  const std::vector<std::string>& header() const { return header_; }
+  /// Table sizes as read from the file: entries past these were made by refinement and
+  /// are dropped again when no corner uses them.
+  std::size_t file_uv_count = 0;
+  std::size_t file_normal_count = 0;
+  /// One colour per vertex (RGB in [0,1]), or empty.
+  std::vector<Eigen::Vector3f>& colors() { return colors_; }
+  const std::vector<Eigen::Vector3f>& colors() const { return colors_; }
+
+  bool has_uvs() const { return !uvs_.empty(); }
+  bool has_file_normals() const { return !file_normals_.empty(); }
+  bool has_colors() const { return !colors_.empty(); }
+
+  /// The file the mesh was read from (for messages naming elements), or empty.
+  const std::string& source() const { return source_; }
+  void set_source(std::string file) { source_ = std::move(file); }
+
+  /// Refinement levels (mesh_attribute): per vertex (empty: all 0), and the edges whose
+  /// level is not 0, sorted by (a, b).
+  std::vector<RefinementLevel>& vertex_levels() { return vertex_levels_; }
+  const std::vector<RefinementLevel>& vertex_levels() const { return vertex_levels_; }
+  std::vector<EdgeLevel>& edge_levels() { return edge_levels_; }
+  const std::vector<EdgeLevel>& edge_levels() const { return edge_levels_; }
 
   /// Counts connectivity changes: ops that split, join or re-triangulate faces call
   /// mark_topology_changed(), so state built on vertex indices can tell it is stale.
-  std::uint64_t topology_version() const;
-  void mark_topology_changed();
+  std::uint64_t topology_version() const { return topology_version_; }
+  void mark_topology_changed() { ++topology_version_; }
 
   /// Sets rest positions and rest normals to the current ones (a bake of the warps).
   void bake();
@@ -113,11 +176,39 @@ public:
   /// where `also_current` is set.
   void recompute_rest_normals(bool also_current);
 
-  MeshStorage& storage() { return *storage_; }
-  const MeshStorage& storage() const { return *storage_; }
+  /// The halfedge view kept from the last op that built one (halfedge_view.h), or null;
+  /// valid only while cached_view_version() equals topology_version().
+  HalfedgeView* cached_view() const { return view_.get(); }
+  std::uint64_t cached_view_version() const { return view_version_; }
+  void set_cached_view(std::shared_ptr<HalfedgeView> view) {
+    view_ = std::move(view);
+    view_version_ = topology_version_;
+  }
+  /// Marks the cached view stale (an op is changing it, or the arrays changed).
+  void invalidate_cached_view() { view_version_ = ~std::uint64_t(0); }
+  /// Marks the cached view up to date (after an op wrote it back).
+  void revalidate_cached_view() { view_version_ = topology_version_; }
 
 private:
-  std::unique_ptr<MeshStorage> storage_;
+  static Vec3Array map(Eigen::Matrix3Xd& m) { return {m.data(), 3, m.cols()}; }
+  static ConstVec3Array map(const Eigen::Matrix3Xd& m) { return {m.data(), 3, m.cols()}; }
+
+  Eigen::Matrix3Xd rest_, pos_, rest_normal_, normal_;
+  std::map<std::string, Eigen::Matrix3Xd> attributes_;
+  std::vector<Eigen::Vector3f> colors_;
+  MeshElements elements_;
+  std::size_t num_polygons_ = 0;
+  std::vector<std::uint32_t> polygon_element_;  // empty while every element is a polygon
+  std::vector<Eigen::Vector2d> uvs_;
+  std::vector<Eigen::Vector3d> file_normals_;
+  std::vector<ObjState> groups_;
+  std::vector<std::string> header_;
+  std::string source_;
+  std::vector<RefinementLevel> vertex_levels_;
+  std::vector<EdgeLevel> edge_levels_;
+  std::uint64_t topology_version_ = 0;
+  std::shared_ptr<HalfedgeView> view_;
+  std::uint64_t view_version_ = 0;
 };
 
 }  // namespace ffd

@@ -4,14 +4,23 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Polygon_mesh_processing/distance.h>
-#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 
 #include <cmath>
 
-#include "mesh/mesh_storage.h"
+#include "mesh/halfedge_view_cgal.h"
 
 namespace ffd {
 namespace PMP = CGAL::Polygon_mesh_processing;
+
+namespace {
+
+// True when both meshes have the same elements: kinds, sizes and vertex indices.
+bool same_elements(const Mesh& a, const Mesh& b) {
+  const MeshElements &ea = a.elements(), &eb = b.elements();
+  return ea.kinds == eb.kinds && ea.offsets == eb.offsets && ea.corners == eb.corners;
+}
+
+}  // namespace
 
 MeshDifference compare_vertices(const Mesh& a, const Mesh& b) {
   MeshDifference d;
@@ -36,7 +45,7 @@ MeshDifference compare_vertices(const Mesh& a, const Mesh& b) {
   const double n = std::max<double>(1, static_cast<double>(pa.cols()));
   d.mean = sum / n;
   d.rms = std::sqrt(sum2 / n);
-  d.same_connectivity = a.faces() == b.faces();
+  d.same_connectivity = same_elements(a, b);
   if (!d.same_connectivity)
     d.reason = "face lists differ (" + std::to_string(a.num_faces()) + " vs " + std::to_string(b.num_faces()) +
                " faces)";
@@ -45,21 +54,41 @@ MeshDifference compare_vertices(const Mesh& a, const Mesh& b) {
 
 namespace {
 
-SurfaceMesh triangulated(const Mesh& m) {
-  SurfaceMesh copy = m.storage().sm;
-  PMP::triangulate_faces(copy);
-  return copy;
+// The polygons as a triangle soup (each polygon fanned from its first corner), every
+// triangle with vertices of its own: a valid Surface_mesh whatever the mesh's topology,
+// and the same surface, which is all a distance needs.
+SurfaceMesh triangle_soup(const Mesh& m) {
+  SurfaceMesh soup;
+  const MeshElements& el = m.elements();
+  const ConstVec3Array p = m.positions();
+  for (std::size_t e = 0; e < el.size(); ++e) {
+    if (el.kinds[e] != ElementKind::Polygon) continue;
+    const std::uint32_t* v = el.vertices(e);
+    for (std::uint32_t i = 1; i + 1 < el.degree(e); ++i) {
+      const VertexIndex a = soup.add_vertex(to_point(p.col(v[0])));
+      const VertexIndex b = soup.add_vertex(to_point(p.col(v[i])));
+      const VertexIndex c = soup.add_vertex(to_point(p.col(v[i + 1])));
+      soup.add_face(a, b, c);
+    }
+  }
+  return soup;
 }
 
-// Distances from every vertex of `from` to the surface `to`.
-void vertex_to_surface(const SurfaceMesh& from, const SurfaceMesh& to, double& sum, double& sum2, std::size_t& n) {
+// Distances from every vertex of `from` that a polygon uses to the surface `to`.
+void vertex_to_surface(const Mesh& from, const SurfaceMesh& to, double& sum, double& sum2, std::size_t& n) {
   using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
   Tree tree(faces(to).first, faces(to).second, to);
   tree.accelerate_distance_queries();
-  for (VertexIndex v : from.vertices()) {
-    if (from.is_isolated(v)) continue;
-    const double e = std::sqrt(tree.squared_distance(from.point(v)));
+  std::vector<char> used(from.num_vertices(), 0);
+  const MeshElements& el = from.elements();
+  for (std::size_t e = 0; e < el.size(); ++e)
+    if (el.kinds[e] == ElementKind::Polygon)
+      for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) used[el.corners[c]] = 1;
+  const ConstVec3Array p = from.positions();
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    if (!used[v]) continue;
+    const double e = std::sqrt(tree.squared_distance(to_point(p.col(static_cast<Eigen::Index>(v)))));
     sum += e;
     sum2 += e * e;
     ++n;
@@ -76,17 +105,17 @@ MeshDifference compare_hausdorff(const Mesh& a, const Mesh& b, double error_boun
     d.reason = "the Hausdorff metric needs faces on both meshes";
     return d;
   }
-  const SurfaceMesh ta = triangulated(a), tb = triangulated(b);
+  const SurfaceMesh ta = triangle_soup(a), tb = triangle_soup(b);
   const double ab = PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(ta, tb, error_bound);
   const double ba = PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(tb, ta, error_bound);
   d.max = std::max(ab, ba);
   double sum = 0, sum2 = 0;
   std::size_t n = 0;
-  vertex_to_surface(ta, tb, sum, sum2, n);
-  vertex_to_surface(tb, ta, sum, sum2, n);
+  vertex_to_surface(a, tb, sum, sum2, n);
+  vertex_to_surface(b, ta, sum, sum2, n);
   d.mean = n ? sum / n : 0;
   d.rms = n ? std::sqrt(sum2 / n) : 0;
-  d.same_connectivity = a.faces() == b.faces();
+  d.same_connectivity = same_elements(a, b);
   return d;
 }
 

@@ -8,7 +8,6 @@
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "mesh/build_mesh.h"
-#include "mesh/mesh_storage.h"
 #include "mesh/off_io.h"
 #include "mesh/ply_io.h"
 #include "mesh/ply_stl_io.h"
@@ -45,16 +44,18 @@ std::string read_text(const std::string& path) {
 // normal (from its first corner that has one) carried into deformed space; vertices
 // without a file normal get their current normal.
 Eigen::Matrix3Xd per_vertex_normals(const Mesh& mesh, const NormalTransform& transform) {
-  const MeshStorage& s = mesh.storage();
-  const SurfaceMesh& sm = s.sm;
+  const MeshElements& el = mesh.elements();
   Eigen::Matrix3Xd out = mesh.normals();
-  for (VertexIndex v : sm.vertices()) {
-    if (sm.is_isolated(v)) continue;
-    for (HalfedgeIndex h : CGAL::halfedges_around_target(sm.halfedge(v), sm)) {
-      if (sm.is_border(h) || s.vn[h] < 0) continue;
-      Eigen::Vector3d n = s.file_normals[s.vn[h]];
-      out.col(v.idx()) = transform ? transform(v.idx(), n) : n;
-      break;
+  if (el.corner_normals.empty()) return out;
+  std::vector<char> done(mesh.num_vertices(), 0);
+  for (std::size_t e = 0; e < el.size(); ++e) {
+    if (el.kinds[e] != ElementKind::Polygon) continue;
+    for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) {
+      const std::uint32_t v = el.corners[c];
+      if (done[v] || el.corner_normals[c] < 0) continue;
+      const Eigen::Vector3d n = mesh.file_normals()[el.corner_normals[c]];
+      out.col(v) = transform ? transform(v, n) : n;
+      done[v] = 1;
     }
   }
   return out;
@@ -81,7 +82,18 @@ Mesh read_mesh(const std::string& path) {
   }
   // Nothing to deform, and nothing a step could write back: not a mesh.
   if (soup.positions.empty()) throw InputError(At{path}, "the file has no vertex");
-  return build_mesh(soup, path);
+  return build_mesh(std::move(soup), path);
+}
+
+void check_writable(const Mesh& mesh, MeshFormat format, const std::string& path) {
+  if (format == MeshFormat::Obj) return;
+  const std::size_t lines = mesh.elements().count(ElementKind::Line);
+  const std::size_t points = mesh.elements().count(ElementKind::Point);
+  if (lines + points == 0) return;
+  const char* name = format == MeshFormat::Off ? "OFF" : format == MeshFormat::Ply ? "PLY" : "STL";
+  throw InputError(At{path}, std::string(name) + " holds faces only, and the mesh has " + std::to_string(lines) +
+                                 " line and " + std::to_string(points) +
+                                 " point elements (OBJ l and p); save it as .obj to keep them");
 }
 
 void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh, const WriteOptions& options) {
@@ -109,6 +121,7 @@ void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh, const Wri
 
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options) {
   const MeshFormat format = mesh_format(path);
+  check_writable(mesh, format, path);
   require_output_folder(path, "output");
   write_file_atomically(path, [&](std::ostream& os) { write_mesh(os, format, mesh, options); });
 }

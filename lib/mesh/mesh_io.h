@@ -30,7 +30,13 @@ struct WriteOptions {
   std::vector<Eigen::Vector3f> colors;
 };
 
-/// Writes `mesh` in `format` to `os`.
+/// Checks that `format` can hold every element of `mesh`: OFF, PLY and STL hold faces
+/// only, so a mesh with OBJ lines or points can only be saved as OBJ.
+/// \throw InputError naming `path` otherwise.
+void check_writable(const Mesh& mesh, MeshFormat format, const std::string& path);
+
+/// Writes `mesh` in `format` to `os` (elements a format cannot hold are left out:
+/// check_writable first).
 void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh,
                 const WriteOptions& options = {});
 

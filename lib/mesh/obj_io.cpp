@@ -3,7 +3,7 @@
 
 #include "common/errors.h"
 #include "common/numbers.h"
-#include "mesh/mesh_storage.h"
+#include <algorithm>
 #include "mesh/text_lines.h"
 
 namespace ffd {
@@ -54,8 +54,7 @@ void read_vertex(const std::vector<std::string_view>& tokens, const std::string&
     }
   }
   soup.positions.push_back(p);
-  soup.vertex_lines.push_back(n);
-  if (any_color) soup.colors.push_back(c);
+    if (any_color) soup.colors.push_back(c);
 }
 
 // Appends `vt u [v [w]]` on line n to `soup` (w is checked, then dropped).
@@ -89,37 +88,25 @@ void split_corner(std::string_view corner, std::string_view& vtok, std::string_v
   }
 }
 
-// The face `f c1 c2 c3 ...` on line n, its corners resolved against what `soup` holds so
-// far; corner UVs and normals are kept when any corner has one (-1 for the others).
-SoupFace read_face(const std::vector<std::string_view>& tokens, const std::string& file, std::size_t n,
-                   const PolygonSoup& soup) {
-  if (tokens.size() < 4)
-    throw InputError(place(file, n) + ": a face needs at least 3 vertices, found " +
-                     std::to_string(tokens.size() - 1));
-  SoupFace face;
-  face.line = n;
-  bool any_uv = false, any_vn = false;
-  std::vector<std::int32_t> uvs, vns;
+// The element `f c1 c2 c3 ...`, `l c1 c2 ...` or `p c1 ...` on line n, its corners
+// resolved against what `soup` holds so far, appended to its elements.
+void read_element(const std::vector<std::string_view>& tokens, ElementKind kind, std::int32_t group,
+                  const std::string& file, std::size_t n, PolygonSoup& soup) {
+  const std::size_t least = kind == ElementKind::Polygon ? 3 : kind == ElementKind::Line ? 2 : 1;
+  if (tokens.size() < least + 1)
+    throw InputError(place(file, n) + ": " +
+                     (kind == ElementKind::Polygon ? "a face" : kind == ElementKind::Line ? "a line" : "a point element") +
+                     " needs at least " + std::to_string(least) + " vertices, found " + std::to_string(tokens.size() - 1));
   for (std::size_t i = 1; i < tokens.size(); ++i) {
     std::string_view vtok, ttok, ntok;
     split_corner(tokens[i], vtok, ttok, ntok);
-    face.vertices.push_back(static_cast<std::uint32_t>(
-        resolve_index(vtok, soup.positions.size(), file, n, "vertex")));
+    const auto v = static_cast<std::uint32_t>(resolve_index(vtok, soup.positions.size(), file, n, "vertex"));
     std::int32_t t = -1, nn = -1;
-    if (!ttok.empty()) {
-      t = static_cast<std::int32_t>(resolve_index(ttok, soup.uvs.size(), file, n, "texture"));
-      any_uv = true;
-    }
-    if (!ntok.empty()) {
-      nn = static_cast<std::int32_t>(resolve_index(ntok, soup.normals.size(), file, n, "normal"));
-      any_vn = true;
-    }
-    uvs.push_back(t);
-    vns.push_back(nn);
+    if (!ttok.empty()) t = static_cast<std::int32_t>(resolve_index(ttok, soup.uvs.size(), file, n, "texture"));
+    if (!ntok.empty()) nn = static_cast<std::int32_t>(resolve_index(ntok, soup.normals.size(), file, n, "normal"));
+    soup.elements.add_corner(v, t, nn);
   }
-  if (any_uv) face.uvs = std::move(uvs);
-  if (any_vn) face.normals = std::move(vns);
-  return face;
+  soup.elements.close(kind, group, static_cast<std::uint32_t>(std::min<std::size_t>(n, 0xffffffffu)));
 }
 
 // Applies an `o`, `g`, `usemtl` or `s` statement to `state`; sets `changed` when it
@@ -158,21 +145,17 @@ PolygonSoup read_obj(std::string_view text, const std::string& file) {
       read_texture_coordinate(tokens, file, n, soup);
     } else if (key == "vn") {
       read_normal(tokens, file, n, soup);
-    } else if (key == "f") {
-      SoupFace face = read_face(tokens, file, n, soup);
+    } else if (key == "f" || key == "l" || key == "p") {
       if (state_changed) {
         soup.groups.push_back(state);
         state_changed = false;
       }
-      face.group = soup.groups.empty() ? -1 : static_cast<std::int32_t>(soup.groups.size() - 1);
-      soup.faces.push_back(std::move(face));
+      const ElementKind kind = key == "f" ? ElementKind::Polygon : key == "l" ? ElementKind::Line : ElementKind::Point;
+      read_element(tokens, kind, static_cast<std::int32_t>(soup.groups.size()) - 1, file, n, soup);
     } else if (key == "o" || key == "g" || key == "usemtl" || key == "s") {
       set_state(line, key, state, state_changed);
     } else if (key == "mtllib") {
       soup.header.push_back("mtllib " + rest_of_line(line, key));
-    } else if (key == "l" || key == "p") {
-      throw InputError(place(file, n) + ": '" + std::string(key) +
-                       "' elements (lines, points) are not supported; ffdtool reads polygon faces");
     } else {
       throw InputError(place(file, n) + ": unsupported OBJ statement '" + std::string(key) + "'");
     }
@@ -191,78 +174,82 @@ void append_state_change(std::string& out, const ObjState& from, const ObjState&
 
 }  // namespace
 
+namespace {
+
+// Appends element e's statement ("f", "l" or "p" and its corners) to `out`.
+void append_element(std::string& out, const MeshElements& el, std::size_t e, const std::vector<std::int64_t>& corner_vn) {
+  out += el.kinds[e] == ElementKind::Polygon ? 'f' : el.kinds[e] == ElementKind::Line ? 'l' : 'p';
+  for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) {
+    out += ' ';
+    out += std::to_string(el.corners[c] + 1);
+    const std::int32_t t = el.uv(c);
+    const std::int64_t nn = corner_vn[c];
+    if (t >= 0 || nn >= 0) {
+      out += '/';
+      if (t >= 0) out += std::to_string(t + 1);
+      if (nn >= 0) {
+        out += '/';
+        out += std::to_string(nn + 1);
+      }
+    }
+  }
+  out += '\n';
+}
+
+// Appends "tag a b c\n" (or with two values) to `out`.
+template <class Vec>
+void append_vector_line(std::string& out, const char* tag, const Vec& v) {
+  out += tag;
+  for (Eigen::Index k = 0; k < v.size(); ++k) {
+    out += ' ';
+    append_number(out, v[k]);
+  }
+  out += '\n';
+}
+
+// Writes `out` to `os` once it holds more than 4 MB, so memory stays bounded.
+void flush_if_large(std::ostream& os, std::string& out) {
+  if (out.size() < (1u << 22)) return;
+  os.write(out.data(), static_cast<std::streamsize>(out.size()));
+  out.clear();
+}
+
+}  // namespace
+
 void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal,
                VertexColors colors) {
-  const MeshStorage& s = mesh.storage();
-  const SurfaceMesh& sm = s.sm;
   std::string out;
-  out.reserve(64 * (mesh.num_vertices() + mesh.num_faces()));
-  for (const std::string& line : s.header) out += line + "\n";
-
+  out.reserve(1u << 23);
+  for (const std::string& line : mesh.header()) out += line + "\n";
   const ConstVec3Array p = mesh.positions();
   for (Eigen::Index i = 0; i < p.cols(); ++i) {
-    out += "v ";
-    append_number(out, p(0, i));
-    out += ' ';
-    append_number(out, p(1, i));
-    out += ' ';
-    append_number(out, p(2, i));
-    if (colors) {
-      const Eigen::Vector3f& c = (*colors)[static_cast<std::size_t>(i)];
+    out += 'v';
+    for (int k = 0; k < 3; ++k) {
+      out += ' ';
+      append_number(out, p(k, i));
+    }
+    if (colors)
       for (int k = 0; k < 3; ++k) {
         out += ' ';
-        append_number(out, c[k]);
+        append_number(out, (*colors)[static_cast<std::size_t>(i)][k]);
       }
-    }
     out += '\n';
+    flush_if_large(os, out);
   }
-  for (const Eigen::Vector2d& t : s.uvs) {
-    out += "vt ";
-    append_number(out, t[0]);
-    out += ' ';
-    append_number(out, t[1]);
-    out += '\n';
-  }
-
+  for (const Eigen::Vector2d& t : mesh.uvs()) append_vector_line(out, "vt", t);
   // Normals: each corner's file normal carried to its vertex's deformed frame.
   const CornerNormals normals = transformed_file_normals(mesh, transform_normal);
-  for (const Eigen::Vector3d& n : normals.table) {
-    out += "vn ";
-    append_number(out, n[0]);
-    out += ' ';
-    append_number(out, n[1]);
-    out += ' ';
-    append_number(out, n[2]);
-    out += '\n';
-  }
-  const std::vector<std::int64_t>& corner_vn = normals.corner;
+  for (const Eigen::Vector3d& n : normals.table) append_vector_line(out, "vn", n);
 
+  const MeshElements& el = mesh.elements();
   ObjState current;
-  for (FaceIndex f : sm.faces()) {
-    const std::int32_t g = s.group[f];
-    const ObjState& next = g >= 0 ? s.groups[g] : ObjState{};
+  for (std::size_t e = 0; e < el.size(); ++e) {
+    const std::int32_t g = el.group(e);
+    const ObjState& next = g >= 0 ? mesh.groups()[g] : ObjState{};
     append_state_change(out, current, next);
     current = next;
-    out += 'f';
-    for (HalfedgeIndex h : CGAL::halfedges_around_face(sm.halfedge(f), sm)) {
-      out += ' ';
-      out += std::to_string(sm.target(h).idx() + 1);
-      const std::int32_t t = s.uv[h];
-      const std::int64_t nn = corner_vn[h.idx()];
-      if (t >= 0 || nn >= 0) {
-        out += '/';
-        if (t >= 0) out += std::to_string(t + 1);
-        if (nn >= 0) {
-          out += '/';
-          out += std::to_string(nn + 1);
-        }
-      }
-    }
-    out += '\n';
-    if (out.size() > (1u << 22)) {
-      os.write(out.data(), static_cast<std::streamsize>(out.size()));
-      out.clear();
-    }
+    append_element(out, el, e, normals.corner);
+    flush_if_large(os, out);
   }
   os.write(out.data(), static_cast<std::streamsize>(out.size()));
 }

@@ -5,7 +5,6 @@
 
 #include "common/errors.h"
 #include "common/numbers.h"
-#include "mesh/mesh_storage.h"
 #include "mesh/text_lines.h"
 
 namespace ffd {
@@ -99,7 +98,6 @@ void read_vertex(const std::vector<std::string_view>& t, const OffHeader& header
   Eigen::Vector3d p;
   for (int i = 0; i < 3; ++i) p[i] = number_or_throw(t[i], file, n, "coordinate");
   soup.positions.push_back(p);
-  soup.vertex_lines.push_back(n);
   if (header.normal) {
     Eigen::Vector3d v;
     for (int i = 0; i < 3; ++i) v[i] = number_or_throw(t[3 + i], file, n, "normal component");
@@ -114,10 +112,10 @@ void read_vertex(const std::vector<std::string_view>& t, const OffHeader& header
 }
 
 // The face on line n (tokens t): its vertex count, that many indices below nv, and an
-// optional colour (ignored). Per-vertex normals and texture coordinates become the
-// face's corners'.
-SoupFace read_face(const std::vector<std::string_view>& t, const OffHeader& header, long long nv,
-                   const std::string& file, std::size_t n) {
+// optional colour (ignored), appended to the soup's elements. Per-vertex normals and
+// texture coordinates become the face's corners'.
+void read_face(const std::vector<std::string_view>& t, const OffHeader& header, long long nv,
+               const std::string& file, std::size_t n, PolygonSoup& soup) {
   long long k;
   if (!parse_integer(t[0], k) || k < 3)
     throw InputError(place(file, n) + ": a face starts with its vertex count (3 or more), found '" +
@@ -128,18 +126,16 @@ SoupFace read_face(const std::vector<std::string_view>& t, const OffHeader& head
   const std::size_t trailing = t.size() - 1 - k;  // optional face colour
   if (trailing != 0 && trailing != 1 && trailing != 3 && trailing != 4)
     throw InputError(place(file, n) + ": unexpected values after the face's vertex indices");
-  SoupFace face;
-  face.line = n;
   for (long long i = 0; i < k; ++i) {
     long long idx;
     if (!parse_integer(t[1 + i], idx) || idx < 0 || idx >= nv)
       throw InputError(place(file, n) + ": vertex index '" + std::string(t[1 + i]) +
                        "' is out of range (0.." + std::to_string(nv - 1) + ")");
-    face.vertices.push_back(static_cast<std::uint32_t>(idx));
+    const auto v = static_cast<std::uint32_t>(idx);
+    soup.elements.add_corner(v, header.st ? static_cast<std::int32_t>(v) : -1,
+                             header.normal ? static_cast<std::int32_t>(v) : -1);
   }
-  if (header.normal) face.normals.assign(face.vertices.begin(), face.vertices.end());
-  if (header.st) face.uvs.assign(face.vertices.begin(), face.vertices.end());
-  return face;
+  soup.elements.close(ElementKind::Polygon, -1, static_cast<std::uint32_t>(std::min<std::size_t>(n, 0xffffffffu)));
 }
 
 // The next non-blank line's tokens into t; false at the end of the text.
@@ -182,18 +178,16 @@ PolygonSoup read_off(std::string_view text, const std::string& file) {
     if (!next_tokens(lines, t)) throw ends_early(file, counts_line, soup.positions.size(), nv, "vertices");
     read_vertex(t, header, file, lines.number(), soup);
   }
-  soup.faces.reserve(nf);
-  while (static_cast<long long>(soup.faces.size()) < nf) {
-    if (!next_tokens(lines, t)) throw ends_early(file, counts_line, soup.faces.size(), nf, "faces");
-    soup.faces.push_back(read_face(t, header, nv, file, lines.number()));
+  soup.elements.reserve(static_cast<std::size_t>(nf), 3);
+  while (static_cast<long long>(soup.elements.size()) < nf) {
+    if (!next_tokens(lines, t)) throw ends_early(file, counts_line, soup.elements.size(), nf, "faces");
+    read_face(t, header, nv, file, lines.number(), soup);
   }
   if (next_tokens(lines, t)) throw InputError(place(file, lines.number()) + ": unexpected data after the last face");
   return soup;
 }
 
 void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors) {
-  const MeshStorage& s = mesh.storage();
-  const SurfaceMesh& sm = s.sm;
   std::string out;
   out.reserve(48 * (mesh.num_vertices() + mesh.num_faces()) + 64);
   if (colors) out += 'C';
@@ -222,11 +216,13 @@ void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* norma
     }
     out += '\n';
   }
-  for (FaceIndex f : sm.faces()) {
-    out += std::to_string(sm.degree(f));
-    for (VertexIndex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
+  const MeshElements& el = mesh.elements();
+  for (std::size_t f = 0; f < el.size(); ++f) {
+    if (el.kinds[f] != ElementKind::Polygon) continue;  // refused before writing (writable_as)
+    out += std::to_string(el.degree(f));
+    for (std::uint32_t c = el.begin(f); c < el.end(f); ++c) {
       out += ' ';
-      out += std::to_string(v.idx());
+      out += std::to_string(el.corners[c]);
     }
     out += '\n';
   }

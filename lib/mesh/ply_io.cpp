@@ -386,14 +386,12 @@ const char* const kSlotNames[] = {"x", "y", "z", "nx", "ny", "nz", "red", "green
 
 void read_vertices(Cursor& cur, const Element& e, const VertexLayout& layout, PolygonSoup& soup) {
   soup.positions.reserve(e.count);
-  soup.vertex_lines.reserve(e.count);
   if (layout.normals()) soup.normals.reserve(e.count);
   if (layout.colors()) soup.colors.reserve(e.count);
   if (layout.uvs()) soup.uvs.reserve(e.count);
   double v[kSlots] = {};
   for (std::uint64_t i = 0; i < e.count; ++i) {
     cur.at(&e, i);
-    const std::size_t line = cur.ascii() ? cur.line() : 0;
     for (const Property& p : e.properties) {
       cur.at(&p);
       if (p.list) {
@@ -406,7 +404,6 @@ void read_vertices(Cursor& cur, const Element& e, const VertexLayout& layout, Po
       v[p.slot] = x;
     }
     soup.positions.emplace_back(v[kX], v[kY], v[kZ]);
-    soup.vertex_lines.push_back(line);
     if (layout.normals()) soup.normals.emplace_back(v[kNx], v[kNy], v[kNz]);
     if (layout.colors()) {
       const double scale = layout.integer_color ? 1.0 / 255.0 : 1.0;
@@ -422,11 +419,10 @@ void read_faces(Cursor& cur, const Element& e, std::uint64_t vertices, const Ver
   std::uint64_t per_face = e.min_bytes(cur.ascii() ? Format::Ascii : Format::BinaryLittle);
   for (const Property& p : e.properties)
     if (p.indices) per_face += cur.ascii() ? 6 : 3 * type_size(p.type);
-  soup.faces.reserve(std::min<std::uint64_t>(e.count, cur.left() / per_face + 1));
+  soup.elements.reserve(std::min<std::uint64_t>(e.count, cur.left() / per_face + 1), 3);
   for (std::uint64_t i = 0; i < e.count; ++i) {
     cur.at(&e, i);
-    SoupFace face;
-    face.line = cur.ascii() ? cur.line() : 0;
+    const std::size_t line = cur.ascii() ? cur.line() : 0;
     for (const Property& p : e.properties) {
       cur.at(&p);
       if (!p.list) {
@@ -434,21 +430,20 @@ void read_faces(Cursor& cur, const Element& e, std::uint64_t vertices, const Ver
         continue;
       }
       const std::uint64_t n = cur.list_length(p);
-      if (p.indices) face.vertices.reserve(n);
       for (std::uint64_t k = 0; k < n; ++k) {
         const double x = cur.scalar(p.type);
         if (!p.indices) continue;
         if (x < 0 || x >= static_cast<double>(vertices))
           cur.fail("vertex index " + std::to_string(static_cast<long long>(x)) + " is out of range (the file has " +
                    std::to_string(vertices) + " vertices)");
-        face.vertices.push_back(static_cast<std::uint32_t>(x));
+        const auto v = static_cast<std::uint32_t>(x);
+        soup.elements.add_corner(v, layout.uvs() ? static_cast<std::int32_t>(v) : -1,
+                                 layout.normals() ? static_cast<std::int32_t>(v) : -1);
       }
       // Checked here, not only in build_mesh: it bounds the memory a face takes per byte.
       if (p.indices && n < 3) cur.fail("a face needs at least 3 vertices, found " + std::to_string(n));
     }
-    if (layout.normals()) face.normals.assign(face.vertices.begin(), face.vertices.end());
-    if (layout.uvs()) face.uvs.assign(face.vertices.begin(), face.vertices.end());
-    soup.faces.push_back(std::move(face));
+    soup.elements.close(ElementKind::Polygon, -1, static_cast<std::uint32_t>(std::min<std::size_t>(line, 0xffffffffu)));
   }
 }
 

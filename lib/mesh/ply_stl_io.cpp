@@ -1,16 +1,15 @@
 #include "mesh/ply_stl_io.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 
 #include "common/numbers.h"
-#include "mesh/mesh_storage.h"
 
 namespace ffd {
 
 void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors) {
-  const MeshStorage& s = mesh.storage();
-  const SurfaceMesh& sm = s.sm;
   std::string out = "ply\nformat ascii 1.0\ncomment written by ffdtool\n";
   out += "element vertex " + std::to_string(mesh.num_vertices()) + "\n";
   out += "property double x\nproperty double y\nproperty double z\n";
@@ -36,9 +35,11 @@ void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* norma
     }
     out += '\n';
   }
-  for (FaceIndex f : sm.faces()) {
-    out += std::to_string(sm.degree(f));
-    for (VertexIndex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) out += ' ' + std::to_string(v.idx());
+  const MeshElements& el = mesh.elements();
+  for (std::size_t f = 0; f < el.size(); ++f) {
+    if (el.kinds[f] != ElementKind::Polygon) continue;  // refused before writing (check_writable)
+    out += std::to_string(el.degree(f));
+    for (std::uint32_t c = el.begin(f); c < el.end(f); ++c) out += ' ' + std::to_string(el.corners[c]);
     out += '\n';
   }
   os.write(out.data(), static_cast<std::streamsize>(out.size()));
@@ -47,16 +48,17 @@ void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* norma
 void write_stl(std::ostream& os, const Mesh& mesh) {
   const ConstVec3Array p = mesh.positions();
   std::string out = "solid ffdtool\n";
-  std::vector<std::uint32_t> ids;
   const auto append_vec = [&out](const Eigen::Vector3d& v) {
     for (int k = 0; k < 3; ++k) {
       out += ' ';
       append_number(out, v[k]);
     }
   };
-  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
-    mesh.face_vertices(f, ids);
-    for (std::size_t i = 1; i + 1 < ids.size(); ++i) {
+  const MeshElements& el = mesh.elements();
+  for (std::size_t f = 0; f < el.size(); ++f) {
+    if (el.kinds[f] != ElementKind::Polygon) continue;
+    const std::uint32_t* ids = el.vertices(f);
+    for (std::size_t i = 1; i + 1 < el.degree(f); ++i) {
       const Eigen::Vector3d a = p.col(ids[0]), b = p.col(ids[i]), c = p.col(ids[i + 1]);
       Eigen::Vector3d n = (b - a).cross(c - a);
       if (n.norm() > 0) n.normalize();

@@ -21,13 +21,10 @@ class VertexMerger {
 public:
   explicit VertexMerger(PolygonSoup& soup) : soup_(soup) {}
   void reserve(std::size_t corners) { index_.reserve(corners); }
-  std::uint32_t add(const Eigen::Vector3d& p, std::size_t line) {
+  std::uint32_t add(const Eigen::Vector3d& p) {
     const auto [it, inserted] = index_.try_emplace(Key{p.x(), p.y(), p.z()},
                                                    static_cast<std::uint32_t>(soup_.positions.size()));
-    if (inserted) {
-      soup_.positions.push_back(p);
-      soup_.vertex_lines.push_back(line);
-    }
+    if (inserted) soup_.positions.push_back(p);
     return it->second;
   }
 
@@ -69,10 +66,9 @@ PolygonSoup read_binary(std::string_view bytes, const std::string& file) {
   PolygonSoup soup;
   VertexMerger merger(soup);
   merger.reserve(std::size_t(count) * 3);
-  soup.faces.reserve(count);
+  soup.elements.reserve(count, 3);
   for (std::uint32_t t = 0; t < count; ++t) {
     const char* tri = bytes.data() + kHeaderBytes + std::size_t(t) * kTriangleBytes + 12;  // after the normal
-    SoupFace face;
     for (int c = 0; c < 3; ++c) {
       Eigen::Vector3d p;
       for (int k = 0; k < 3; ++k) p[k] = little_float(tri + 12 * c + 4 * k);
@@ -80,9 +76,9 @@ PolygonSoup read_binary(std::string_view bytes, const std::string& file) {
         throw InputError(file + ": triangle " + std::to_string(t) + ": corner " + std::to_string(c) +
                          " has a non-finite coordinate (" + format_number(p[0]) + " " + format_number(p[1]) + " " +
                          format_number(p[2]) + ")");
-      face.vertices.push_back(merger.add(p, 0));
+      soup.elements.add_corner(merger.add(p));
     }
-    soup.faces.push_back(std::move(face));
+    soup.elements.close(ElementKind::Polygon);
   }
   return soup;
 }
@@ -138,23 +134,21 @@ private:
 // One `facet normal n n n outer loop vertex x y z (3x) endloop endfacet` after its
 // "facet" word, into `soup`.
 void read_facet(Words& w, std::size_t index, VertexMerger& merger, PolygonSoup& soup) {
-  SoupFace face;
-  face.line = w.line();
+  const std::size_t facet_line = w.line();
   w.expect("normal");
   for (int k = 0; k < 3; ++k) w.number("normal component", false);
   w.expect("outer");
   w.expect("loop");
   for (int c = 0; c < 3; ++c) {
     w.expect("vertex");
-    const std::size_t line = w.line();
     Eigen::Vector3d p;
     for (int k = 0; k < 3; ++k)
       p[k] = w.number(("triangle " + std::to_string(index) + ": coordinate").c_str(), true);
-    face.vertices.push_back(merger.add(p, line));
+    soup.elements.add_corner(merger.add(p));
   }
   w.expect("endloop");
   w.expect("endfacet");
-  soup.faces.push_back(std::move(face));
+  soup.elements.close(ElementKind::Polygon, -1, static_cast<std::uint32_t>(std::min<std::size_t>(facet_line, 0xffffffffu)));
 }
 
 PolygonSoup read_ascii(std::string_view text, const std::string& file) {
@@ -167,7 +161,7 @@ PolygonSoup read_ascii(std::string_view text, const std::string& file) {
     const std::string_view word = w.next();
     if (word.empty()) w.fail("the file ends before 'endsolid'");
     if (word == "facet") {
-      read_facet(w, soup.faces.size(), merger, soup);
+      read_facet(w, soup.elements.size(), merger, soup);
       continue;
     }
     if (word != "endsolid") w.fail("expected 'facet' or 'endsolid', found '" + std::string(word) + "'");

@@ -1,19 +1,20 @@
 #include "mesh/vertex_normals.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 
-#include "mesh/mesh_storage.h"
 
 namespace ffd {
 
 void compute_vertex_normals(const Mesh& mesh, const Eigen::Ref<const Eigen::Matrix3Xd>& positions,
                             Eigen::Ref<Eigen::Matrix3Xd> out) {
-  const SurfaceMesh& sm = mesh.storage().sm;
+  const MeshElements& el = mesh.elements();
   out.setZero();
-  std::vector<std::uint32_t> ids;
-  for (FaceIndex f : sm.faces()) {
-    mesh.face_vertices(f.idx(), ids);
-    const std::size_t n = ids.size();
+  for (std::size_t f = 0; f < el.size(); ++f) {
+    if (el.kinds[f] != ElementKind::Polygon || el.degree(f) < 3) continue;
+    const std::uint32_t* ids = el.vertices(f);
+    const std::size_t n = el.degree(f);
     // Newell's normal: exact for planar polygons, robust for nearly planar ones.
     // Taken relative to the first corner so that far-from-origin meshes lose no digits.
     const Eigen::Vector3d origin = positions.col(ids[0]);

@@ -10,7 +10,7 @@
 
 #include "common/errors.h"
 #include "common/timer.h"
-#include "mesh/mesh_storage.h"
+#include "mesh/halfedge_view_cgal.h"
 #include "warp/warp_stack_storage.h"
 
 namespace ffd {
@@ -32,23 +32,6 @@ struct FaceRecord {
   std::uint32_t start = 0;
 };
 
-// The mesh's declared refinement attributes (mesh.h): they live in the mesh as
-// properties, so they follow every change, and persist for the next remesh step.
-struct Properties {
-  SurfaceMesh::Property_map<VertexIndex, Level> vertex_level;
-  SurfaceMesh::Property_map<EdgeIndex, Level> edge_level;
-  SurfaceMesh::Property_map<FaceIndex, std::uint32_t> start;  // a face's first vertex, kept through splits
-
-  explicit Properties(SurfaceMesh& sm) {
-    vertex_level = sm.add_property_map<VertexIndex, Level>(mesh_attribute::kVertexLevel, 0).first;
-    edge_level = sm.add_property_map<EdgeIndex, Level>(mesh_attribute::kEdgeLevel, 0).first;
-    bool created;
-    std::tie(start, created) = sm.add_property_map<FaceIndex, std::uint32_t>(mesh_attribute::kFaceStart, 0);
-    if (created)
-      for (FaceIndex f : sm.faces()) start[f] = sm.target(sm.halfedge(f)).idx();
-  }
-};
-
 // A scratch property, removed when it goes out of scope (on an exception too), so no
 // scratch data outlives the op (mesh.h).
 template <class Key, class Value>
@@ -68,9 +51,9 @@ private:
 
 class Remesher {
 public:
-  Remesher(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options, RemeshStats& stats,
+  Remesher(Mesh& mesh, HalfedgeView& view, const WarpStack& stack, const RemeshOptions& options, RemeshStats& stats,
            const std::function<void(double)>& progress)
-      : mesh_(mesh), s_(mesh.storage()), sm_(s_.sm), stack_(stack), options_(options), stats_(stats), p_(sm_),
+      : mesh_(mesh), s_(view), sm_(s_.sm), stack_(stack), options_(options), stats_(stats), p_(view),
         progress_(progress) {
     const double deg = M_PI / 180.0;
     eps_max_ = 1 - std::cos(options.theta_max_deg * deg);
@@ -79,7 +62,8 @@ public:
     // chord L and sagitta (L/2)·tan(θ/4); the two faces' distances add to L·tan(θ/4).
     tan_max_ = std::tan(options.theta_max_deg * deg / 4);
     tan_min_ = std::tan(options.theta_min_deg * deg / 4);
-    for (std::size_t k = 0; k < stack.size(); ++k) domains_.push_back({&stack.warp(k), warp_input_positions(s_, k)});
+    for (std::size_t k = 0; k < stack.size(); ++k)
+      domains_.push_back({&stack.warp(k), warp_input_positions(s_, k), warp_input_normals(s_, k)});
     l_max_ = options.l_max ? *options.l_max : smallest_cell_extent(stack);
     stats_.l_max = l_max_;
   }
@@ -91,6 +75,7 @@ private:
   struct Domain {
     const Warp* warp;
     Vec3Property input;
+    Vec3Property input_normal;
   };
 
   Eigen::Vector3d pos(VertexIndex v) const { return to_eigen(sm_.point(v)); }
@@ -131,14 +116,16 @@ private:
   FaceRecord record(FaceIndex f) const;
   void restore_start(FaceIndex f);
   void compact_tables();
+  // Fills a new vertex's per-warp inputs, position and normal from its rest data.
+  void evaluate(VertexIndex m);
 
   Mesh& mesh_;
-  MeshStorage& s_;
+  HalfedgeView& s_;
   SurfaceMesh& sm_;
   const WarpStack& stack_;
   const RemeshOptions& options_;
   RemeshStats& stats_;
-  Properties p_;
+  HalfedgeView& p_;  // the declared attributes (levels, starts) live in the view
   const std::function<void(double)>& progress_;
   double refine_share_ = 0;  // of the whole, after the scan
   std::vector<Domain> domains_;
@@ -366,8 +353,18 @@ std::array<EdgeIndex, 4> Remesher::split(EdgeIndex e, Level r) {
     p_.start[f] = f == side.face ? side.start : sm_.target(sm_.halfedge(f)).idx();
     restore_start(f);
   }
-  stack_.evaluate_vertex(mesh_, m.idx());
+  evaluate(m);
   return edges;
+}
+
+void Remesher::evaluate(VertexIndex m) {
+  Eigen::Vector3d x = s_.rest[m], n = s_.rest_normal[m];
+  stack_.evaluate_point(x, n, [&](std::size_t k, const Eigen::Vector3d& xk, const Eigen::Vector3d& nk) {
+    domains_[k].input[m] = xk;
+    domains_[k].input_normal[m] = nk;
+  });
+  sm_.point(m) = to_point(x);
+  s_.normal[m] = n;
 }
 
 Level Remesher::split_level(HalfedgeIndex h) const {
@@ -621,16 +618,16 @@ double smallest_cell_extent(const WarpStack& stack) {
 RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options,
                             const std::function<void(double)>& progress) {
   RemeshStats stats;
-  Remesher(mesh, stack, options, stats, progress).run();
+  HalfedgeView& view = halfedge_view(mesh);
+  Remesher(mesh, view, stack, options, stats, progress).run();
+  write_back(view, mesh, stats.triangulated_faces > 0 || stats.refinements > 0 || stats.decimations > 0);
   return stats;
 }
 
 std::vector<int> vertex_levels(const Mesh& mesh) {
-  const SurfaceMesh& sm = mesh.storage().sm;
-  std::vector<int> levels(sm.number_of_vertices(), 0);
-  auto map = sm.property_map<VertexIndex, Level>(mesh_attribute::kVertexLevel);
-  if (map.second)
-    for (VertexIndex v : sm.vertices()) levels[v.idx()] = map.first[v];
+  std::vector<int> levels(mesh.num_vertices(), 0);
+  const std::vector<RefinementLevel>& stored = mesh.vertex_levels();
+  for (std::size_t v = 0; v < stored.size() && v < levels.size(); ++v) levels[v] = stored[v];
   return levels;
 }
 

@@ -78,14 +78,9 @@ Eigen::Vector3d WarpStack::evaluate(const Eigen::Vector3d& rest, Eigen::Matrix3d
   return x;
 }
 
-void WarpStack::evaluate_vertex(Mesh& mesh, std::uint32_t v) const {
-  Eigen::Vector3d x = mesh.rest_positions().col(v);
-  Eigen::Vector3d n = mesh.rest_normals().col(v);
+void WarpStack::evaluate_point(Eigen::Vector3d& x, Eigen::Vector3d& n, const InputSink& input) const {
   for (std::size_t k = 0; k < warps_.size(); ++k) {
-    if (k > 0) {
-      mesh.vec3_attribute(input_name(k, "pos")).col(v) = x;
-      mesh.vec3_attribute(input_name(k, "nrm")).col(v) = n;
-    }
+    if (k > 0 && input) input(k, x, n);
     Eigen::Matrix3d J;
     const Eigen::Vector3d u = warps_[k]->apply(x, &J);
     if (u != x || !J.isIdentity(0.0)) {
@@ -95,6 +90,15 @@ void WarpStack::evaluate_vertex(Mesh& mesh, std::uint32_t v) const {
     }
     x = u;
   }
+}
+
+void WarpStack::evaluate_vertex(Mesh& mesh, std::uint32_t v) const {
+  Eigen::Vector3d x = mesh.rest_positions().col(v);
+  Eigen::Vector3d n = mesh.rest_normals().col(v);
+  evaluate_point(x, n, [&](std::size_t k, const Eigen::Vector3d& xk, const Eigen::Vector3d& nk) {
+    mesh.vec3_attribute(input_name(k, "pos")).col(v) = xk;
+    mesh.vec3_attribute(input_name(k, "nrm")).col(v) = nk;
+  });
   mesh.positions().col(v) = x;
   mesh.normals().col(v) = n;
 }

@@ -8,6 +8,7 @@
 // space through the whole stack, so they sample the true deformed surface.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,6 +45,10 @@ public:
 
   /// A rest-space point through every warp; the total Jacobian when asked.
   Eigen::Vector3d evaluate(const Eigen::Vector3d& rest, Eigen::Matrix3d* jacobian) const;
+  /// Carries a rest position `x` and rest normal `n` through every warp, in place (the
+  /// covariant rule for n); `input(k, x, n)`, when set, sees warp k's input for k >= 1.
+  using InputSink = std::function<void(std::size_t, const Eigen::Vector3d&, const Eigen::Vector3d&)>;
+  void evaluate_point(Eigen::Vector3d& x, Eigen::Vector3d& n, const InputSink& input) const;
   /// Fills vertex v's per-warp inputs, current position and normal from its rest
   /// position and rest normal (for vertices a step has just created).
   void evaluate_vertex(Mesh& mesh, std::uint32_t v) const;
@@ -57,6 +62,8 @@ public:
   /// Name of the mesh attribute (Mesh::vec3_attribute) holding warp k's input positions
   /// (k >= 1; warp 0 reads the rest positions).
   static std::string input_attribute(std::size_t k) { return input_name(k, "pos"); }
+  /// The same for warp k's input normals.
+  static std::string input_normal_attribute(std::size_t k) { return input_name(k, "nrm"); }
 
 private:
   static std::string input_name(std::size_t k, const char* what);

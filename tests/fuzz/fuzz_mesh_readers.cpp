@@ -10,6 +10,6 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   return ffd::fuzz::one_input(data, size, [](std::string_view bytes) {
     const ffd::PolygonSoup soup = FFD_FUZZ_READER(bytes, "fuzz");
-    ffd::build_mesh(soup, "fuzz");
+    ffd::build_mesh(std::move(soup), "fuzz");
   });
 }
