@@ -108,8 +108,9 @@ ResultRecord record_of(const Plan& plan, const BatchItem& item, const ChildEnd& 
   return r;
 }
 
-// Removes what a failed item left: the staged temporary files of a child killed in the
-// middle of a write, and the save folders made for it that stayed empty.
+// Removes what a failed item left: the named temporary files a killed child can leave
+// (common/atomic_file.cpp: killed between link and rename, or on a file system without
+// unnamed files), and the save folders made for it that stayed empty.
 void remove_leftovers(const BatchItem& item, pid_t pid) {
   const std::string mark = ".ffdtool-" + std::to_string(pid) + "-";
   std::error_code ec;
