@@ -1,7 +1,8 @@
 // Faults (issue #13, item 8): a run killed by SIGKILL at any moment leaves no partial
 // output and its inputs intact; a write that fails (a file size limit, a full disk) is
-// exit 3 with one line naming the file and nothing left behind; and StagedFile's own
-// promises (commit replaces in one step, no commit leaves nothing).
+// exit 3 with one line naming the file and nothing left behind; StagedFile's own
+// promises (commit replaces in one step, no commit leaves nothing); and the batch's
+// results log keeps whole lines through a failed append or a torn one.
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -25,6 +26,7 @@
 
 #include "common/atomic_file.h"
 #include "common/errors.h"
+#include "script/results_log.h"
 #include "test_meshes.h"
 
 namespace ffd {
@@ -384,6 +386,74 @@ TEST(StagedFile, ManyWaitingFilesFitTheOpenFileLimit) {
   EXPECT_EQ(files_in(dir).size(), static_cast<std::size_t>(kFiles));
   for (int i = 0; i < kFiles; ++i)
     EXPECT_EQ(read_file(dir + "/frame_" + std::to_string(i) + ".obj"), "frame " + std::to_string(i) + "\n");
+}
+
+
+// ---------------------------------------------------------------------------------------
+// The batch's results log
+
+ResultRecord result(const std::string& input, std::size_t padding = 0) {
+  ResultRecord r;
+  r["input"] = input;
+  r["status"] = "ok";
+  r["note"] = std::string(padding, 'x');
+  return r;
+}
+
+// A last line cut short (a batch killed, or out of disk, while appending it) is skipped,
+// so that --resume and report still read the log; a bad line elsewhere is an error.
+TEST(ResultsLog, ATornLastLineIsSkipped) {
+  const std::string dir = temp_folder("torn");
+  const std::string whole = result("a.obj").dump() + "\n" + result("b.obj").dump() + "\n";
+  const std::string last = result("c.obj").dump();
+  write_file(dir + "/results.jsonl", whole + last.substr(0, last.size() / 2));
+  const std::vector<ResultRecord> records = read_results(dir);
+  ASSERT_EQ(records.size(), 2u);
+  EXPECT_EQ(records[1]["input"], "b.obj");
+  write_file(dir + "/results.jsonl", whole + last);  // whole but for its newline: kept
+  EXPECT_EQ(read_results(dir).size(), 3u);
+  write_file(dir + "/results.jsonl", last.substr(0, 10) + "\n" + whole);
+  test::expect_input_error([&] { read_results(dir); }, dir + "/results.jsonl:1: ", {"not a results record"});
+}
+
+// An append that fails (EFBIG past a file size limit, after a short write) is cut off
+// again: the log keeps whole lines only, and later appends go on from there.
+TEST(ResultsLog, AFailedAppendLeavesWholeLines) {
+  const std::string dir = temp_folder("failed_append");
+  const std::string path = dir + "/results.jsonl";
+  ResultsLog log(path, {result("a.obj")});
+  log.append(result("b.obj"));
+  const std::string before = read_file(path);
+  {
+    const FileSizeLimit limit(before.size() + 100);
+    try {
+      log.append(result("c.obj", 1000));
+      ADD_FAILURE() << "no IoError";
+    } catch (const IoError& e) {
+      EXPECT_EQ(std::string(e.what()), path + ": cannot write: File too large");
+    }
+  }
+  EXPECT_EQ(read_file(path), before);
+  log.append(result("d.obj"));
+  const std::vector<ResultRecord> records = read_results(dir);
+  ASSERT_EQ(records.size(), 3u);
+  EXPECT_EQ(records[2]["input"], "d.obj");
+}
+
+// A new log (a --resume batch's, with the records it carries over) replaces the earlier
+// one in one step rather than truncating it first: until then the earlier one is whole.
+TEST(ResultsLog, ANewLogReplacesTheEarlierOneInOneStep) {
+  const std::string dir = temp_folder("new_log");
+  const std::string path = dir + "/results.jsonl";
+  const std::string earlier = result("a.obj").dump() + "\n" + result("b.obj").dump() + "\n";
+  write_file(path, earlier);
+  const ino_t old_inode = inode_of(path);
+  std::ifstream reader(path);
+  ResultsLog log(path, {result("b.obj")});
+  EXPECT_NE(inode_of(path), old_inode);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(reader), {}), earlier);
+  EXPECT_EQ(read_file(path), result("b.obj").dump() + "\n");
+  EXPECT_EQ(files_in(dir), std::set<std::string>{"results.jsonl"});
 }
 
 }  // namespace
