@@ -3,11 +3,11 @@
 // times and ratios against a baseline measured in the same run.
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <iostream>
 #include <omp.h>
 
 #include "bench.h"
+#include "common/atomic_file.h"
 #include "common/errors.h"
 #include "script/runner.h"
 
@@ -63,7 +63,12 @@ int main(int argc, char** argv) {
   if (output.empty()) {
     std::cout << text;
   } else {
-    std::ofstream(output) << text;
+    try {  // whole or not at all, like ffdtool's outputs; a failed write is exit 3
+      ffd::write_file_atomically(output, [&](std::ostream& os) { os << text; });
+    } catch (const ffd::Error& e) {
+      std::fprintf(stderr, "ffdbench: error: %s\n", e.what());
+      return 3;
+    }
   }
   return 0;
 }

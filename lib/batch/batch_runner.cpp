@@ -108,8 +108,9 @@ ResultRecord record_of(const Plan& plan, const BatchItem& item, const ChildEnd& 
   return r;
 }
 
-// Removes what a failed item left: the staged temporary files of a child killed in the
-// middle of a write, and the save folders made for it that stayed empty.
+// Removes what a failed item left: the named temporary files a killed child can leave
+// (common/atomic_file.cpp: killed between link and rename, or on a file system without
+// unnamed files), and the save folders made for it that stayed empty.
 void remove_leftovers(const BatchItem& item, pid_t pid) {
   const std::string mark = ".ffdtool-" + std::to_string(pid) + "-";
   std::error_code ec;
@@ -284,12 +285,10 @@ int run_batch(const BatchOptions& options) {
   const bool sharded = plan.shard.has_value();
   ResultsLog log((fs::path(options.output_folder) /
                   results_file_name(sharded, sharded ? plan.shard->index : 0, sharded ? plan.shard->count : 1))
-                     .string());
+                     .string(),
+                 skipped);  // replaces the earlier log in one step: killed before, it is kept whole
   progress.begin(plan.items.size());
-  for (const ResultRecord& r : skipped) {
-    log.append(r);
-    progress.item_end(r["input"].get<std::string>(), "skipped", 0);
-  }
+  for (const ResultRecord& r : skipped) progress.item_end(r["input"].get<std::string>(), "skipped", 0);
   // The children's stats and stderr: node-local, per process, never in the output folder.
   plan.temp = (fs::temp_directory_path() / ("ffdtool-batch-" + std::to_string(::getpid()))).string();
   fs::create_directories(plan.temp);

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/atomic_file.h"
 #include "common/errors.h"
 
 namespace ffd {
@@ -35,8 +36,10 @@ std::vector<ResultRecord> read_results(const std::string& folder) {
     for (std::size_t number = 1; std::getline(is, line); ++number) {
       if (line.empty()) continue;
       ResultRecord record = ResultRecord::parse(line, nullptr, false);
-      if (record.is_discarded() || !record.is_object() || !record.contains("input") || !record["input"].is_string())
+      if (record.is_discarded() || !record.is_object() || !record.contains("input") || !record["input"].is_string()) {
+        if (is.eof()) break;  // a last line with no newline: a torn append
         throw InputError(At{file + ":" + std::to_string(number)}, "not a results record");
+      }
       const auto [at, fresh] = by_input.emplace(record["input"].get<std::string>(), records.size());
       if (fresh)
         records.push_back(std::move(record));
@@ -47,9 +50,14 @@ std::vector<ResultRecord> read_results(const std::string& folder) {
   return records;
 }
 
-ResultsLog::ResultsLog(const std::string& path) : path_(path) {
-  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw IoError(At{path}, std::string("cannot create: ") + std::strerror(errno));
+ResultsLog::ResultsLog(const std::string& path, const std::vector<ResultRecord>& first) : path_(path) {
+  StagedFile staged(path);
+  size_ = staged.write([&](std::ostream& os) {
+    for (const ResultRecord& record : first) os << record.dump() << "\n";
+  });
+  staged.commit();
+  fd_ = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (fd_ < 0) throw IoError(At{path}, std::string("cannot write: ") + std::strerror(errno));
 }
 
 ResultsLog::~ResultsLog() {
@@ -62,9 +70,14 @@ void ResultsLog::append(const ResultRecord& record) {
   while (done < line.size()) {
     const ssize_t n = ::write(fd_, line.data() + done, line.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw IoError(At{path_}, std::string("write failed: ") + std::strerror(errno));
+    if (n <= 0) {
+      const int error = n < 0 ? errno : EIO;
+      if (done > 0) (void)!::ftruncate(fd_, static_cast<off_t>(size_));  // no torn line left
+      throw IoError(At{path_}, std::string("cannot write: ") + std::strerror(error));
+    }
     done += static_cast<std::size_t>(n);
   }
+  size_ += done;
 }
 
 }  // namespace ffd

@@ -4,7 +4,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <omp.h>
 
 #include "common/atomic_file.h"
@@ -116,11 +115,7 @@ nlohmann::ordered_json run_steps(const Script& script, Scene& scene, const RunOp
 // Stages the stats file with the run's other outputs.
 void stage_stats(const std::string& path, const nlohmann::ordered_json& stats, Scene& scene) {
   StagedFile staged(path);
-  {
-    std::ofstream os(staged.temp_path(), std::ios::binary | std::ios::trunc);
-    os << stats.dump(2) << "\n";
-    if (!os) throw IoError(At{path}, "cannot write");
-  }
+  staged.write([&](std::ostream& os) { os << stats.dump(2) << "\n"; });
   scene.staged.push_back(std::move(staged));
 }
 
@@ -168,6 +163,8 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
   stats["warnings"] = scene.warnings;
   stats["peak_memory_bytes"] = peak_memory_bytes();
   if (!options.stats.empty()) stage_stats(options.stats, stats, scene);
+  // Each file goes in place in one step, but the files one after another: a run killed
+  // in this loop leaves the ones before it in place, whole, and none of the rest.
   for (StagedFile& file : scene.staged) file.commit();
   if (!options.quiet)
     std::fprintf(stderr, "ffdtool: wrote %s: %s vertices, %s faces; steps %s, total %s\n", options.output.c_str(),

@@ -24,7 +24,7 @@ struct RunOptions {
 
 /// Checks everything that can be checked first (script, output paths, input files), then
 /// reads the mesh, runs every step, and writes the output mesh, every saved mesh and the
-/// stats file, all renamed into place only after the last step succeeded. Returns the
+/// stats file, all put in place only after the last step succeeded. Returns the
 /// stats. \throw InputError for bad input (nothing is written), SolverError or IoError for a failure
 /// while running (nothing is written).
 nlohmann::ordered_json run_script(const RunOptions& options);

@@ -34,7 +34,7 @@ struct Scene {
   std::map<std::string, std::unique_ptr<SurfaceEditor, SurfaceEditorDelete>> editors;
 
   std::string output_folder;
-  /// Files written by steps, renamed into place only when the whole run succeeds.
+  /// Files written by steps, put in place only when the whole run succeeds.
   std::vector<StagedFile> staged;
   std::vector<std::string> warnings;
 
