@@ -15,6 +15,7 @@ struct HalfedgeView;
 
 /// Checks that the polygons of `mesh` form an oriented 2-manifold (boundaries allowed;
 /// lines and points are ignored), in element order:
+/// - at least one face (a point cloud is not a surface);
 /// - degenerate face f: fewer than three corners, or a vertex used twice;
 /// - non-manifold edge i–j: a third face on it;
 /// - face f flipped against its neighbour g, or a duplicate of g: both run i→j;

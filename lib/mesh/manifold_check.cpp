@@ -143,6 +143,9 @@ void check_vertices(const Mesh& mesh) {
 
 void check_two_manifold(const Mesh& mesh) {
   const MeshElements& el = mesh.elements();
+  if (mesh.num_faces() == 0)
+    throw TopologyError(At{mesh.source().empty() ? "mesh" : mesh.source()},
+                        "the mesh has no faces (a point cloud); this step needs an oriented 2-manifold mesh");
   std::unordered_map<std::uint64_t, EdgeUse> uses;
   uses.reserve(el.corners.size());
   std::vector<std::uint32_t> scratch;

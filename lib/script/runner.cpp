@@ -142,6 +142,7 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
 
   Stopwatch read_clock;
   scene.mesh = read_mesh(options.mesh);
+  check_writable(scene.mesh, mesh_format(options.output), options.output);  // before any work
   nlohmann::ordered_json stats = input_stats(options, scene.mesh, read_clock.ms());
 #ifndef NDEBUG
   scene.warnings.push_back("this ffdtool is not an optimized build: expect it to be many times slower");
