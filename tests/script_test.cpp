@@ -57,6 +57,13 @@ TEST(ScriptParse, UnknownOrMissingOp) {
   expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": 3})"), "/steps/1/op", {"unknown op", "3"});
   expect_script_error(with_steps(R"({"name": "body", "cells": [6, 6, 6]})"), "/steps/0",
                       {"missing key 'op'", "lattice", "save"});
+  // An "op" key in a selection or a box (fuzz_run found these) names no op: the message
+  // names the keys the object may have.
+  expect_script_error(with_steps(R"({"op": "bcm", "name": "e", "support": {"op": "x"},
+      "handles": [{"name": "h", "select": {"near": [0, 0, 1]}}]})"),
+                      "/steps/0/support", {"expected an object with 'indices'", "'sphere'", "found an object"});
+  expect_script_error(with_steps(R"({"op": "lattice", "name": "a", "cells": [4, 4, 4], "box": {"op": "x"}})"),
+                      "/steps/0/box", {"expected one of the keys", "'fit'"});
 }
 
 TEST(ScriptParse, UnknownKeysNameTheKeyAndTheAllowedOnes) {

@@ -166,7 +166,9 @@ private:
       return error(path, "missing key 'op' (one of: " + ops + ")");
     }
     if (candidates.empty()) {
-      if (value.is_object() && value.contains("op")) {
+      // Only a choice between ops names them; a selection or a box with an "op" key
+      // is refused below for its keys.
+      if (by_op && value.is_object() && value.contains("op")) {
         std::string ops;
         for (std::size_t i = 0; i < branches.size(); ++i)
           ops += (i ? ", " : "") + deref(branches[i])["properties"]["op"]["const"].get<std::string>();
