@@ -125,7 +125,8 @@ void bcm_detail(BcmData& data);
 /// ascending, duplicate-free vertex lists. `progress`, when set, is called after each
 /// phase with the fraction of the setup done (increasing, 1 after the last phase; each
 /// phase weighs its typical share of the time); it never changes the result. Throws what
-/// the phases throw.
+/// the phases throw, and first TopologyError naming the first element that keeps the
+/// mesh from being an oriented 2-manifold (check_two_manifold).
 BcmData bcm_precompute(const Mesh& mesh, const std::vector<std::uint32_t>& support,
                        const std::vector<BcmHandle>& handles, const BcmOptions& options,
                        const std::function<void(double)>& progress = {});

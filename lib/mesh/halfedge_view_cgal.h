@@ -95,12 +95,6 @@ SurfaceMesh surface_mesh(const Mesh& mesh);
 /// A Mesh of `sm`'s vertices and faces, in index order (sm has no garbage).
 Mesh mesh_from_surface(const SurfaceMesh& sm, const std::string& source);
 
-/// The current positions as a 3 × n array over sm.points().
-inline Eigen::Map<Eigen::Matrix3Xd> point_array(SurfaceMesh& sm) {
-  return {const_cast<double*>(reinterpret_cast<const double*>(sm.points().data())), 3,
-          static_cast<Eigen::Index>(sm.number_of_vertices())};
-}
-
 inline Eigen::Vector3d to_eigen(const Point3& p) { return {p.x(), p.y(), p.z()}; }
 inline Point3 to_point(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
