@@ -8,11 +8,11 @@ CornerNormals transformed_file_normals(const Mesh& mesh, const NormalTransform& 
   const MeshElements& el = mesh.elements();
   const std::vector<Eigen::Vector3d>& file_normals = mesh.file_normals();
   CornerNormals result;
-  result.corner.assign(el.corners.size(), -1);
   if (!mesh.has_file_normals() || el.corner_normals.empty()) {
-    result.table = file_normals;
+    result.table = file_normals;  // no corner has one: `corner` stays empty
     return result;
   }
+  result.corner.assign(el.corners.size(), -1);
   std::vector<std::vector<Eigen::Vector3d>> values(file_normals.size());
   std::vector<std::pair<std::int64_t, std::size_t>> slot_of(el.corners.size(), {-1, 0});
   std::map<std::pair<std::int32_t, std::uint32_t>, std::size_t> memo;  // (entry, vertex) -> slot

@@ -15,7 +15,8 @@ using NormalTransform = std::function<Eigen::Vector3d(std::uint32_t vertex, cons
 /// The file-normal table after a deformation, and each corner's entry in it.
 struct CornerNormals {
   std::vector<Eigen::Vector3d> table;
-  /// Per element corner (MeshElements::corners): index into table, -1 for none.
+  /// Per element corner (MeshElements::corners): index into table, -1 for none; empty
+  /// when no corner has a file normal.
   std::vector<std::int64_t> corner;
 };
 

@@ -183,7 +183,7 @@ void append_element(std::string& out, const MeshElements& el, std::size_t e, con
     out += ' ';
     out += std::to_string(el.corners[c] + 1);
     const std::int32_t t = el.uv(c);
-    const std::int64_t nn = corner_vn[c];
+    const std::int64_t nn = corner_vn.empty() ? -1 : corner_vn[c];
     if (t >= 0 || nn >= 0) {
       out += '/';
       if (t >= 0) out += std::to_string(t + 1);
