@@ -107,7 +107,7 @@ void sync_vertices(const Mesh& mesh, HalfedgeView& view) {
   }
   for (const std::string& name : mesh.vec3_attribute_names()) {
     Vec3Property map = view.vec3_attribute(name);
-    const Vec3Array a = const_cast<Mesh&>(mesh).vec3_attribute(name);  // exists: no change
+    const ConstVec3Array a = mesh.vec3_attribute(name);
     for (VertexIndex v : sm.vertices()) map[v] = a.col(v.idx());
   }
 }

@@ -107,6 +107,8 @@ public:
   /// A named per-vertex 3-vector array owned by the mesh, created (zero) if missing.
   /// It follows the vertices through every connectivity change.
   Vec3Array vec3_attribute(const std::string& name);
+  /// The named vec3 attribute, read-only. \pre has_vec3_attribute(name).
+  ConstVec3Array vec3_attribute(const std::string& name) const { return map(attributes_.at(name)); }
   bool has_vec3_attribute(const std::string& name) const;
   void remove_vec3_attribute(const std::string& name);
   /// The names of the vec3 attributes, sorted.

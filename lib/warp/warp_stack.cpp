@@ -32,8 +32,8 @@ std::size_t WarpStack::index_of(const std::string& name) const {
 
 Eigen::Vector3d WarpStack::input_position(const Mesh& mesh, std::size_t k, std::uint32_t v) const {
   if (k == 0) return mesh.rest_positions().col(v);
-  // const access: the attribute exists for every k >= 1 while the warp does.
-  return const_cast<Mesh&>(mesh).vec3_attribute(input_name(k, "pos")).col(v);
+  // The attribute exists for every k >= 1 while the warp does.
+  return mesh.vec3_attribute(input_name(k, "pos")).col(v);
 }
 
 WarpStack::Update WarpStack::update(Mesh& mesh, const std::string& name) {
