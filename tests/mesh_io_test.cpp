@@ -24,6 +24,7 @@
 
 #include "common/errors.h"
 #include "common/numbers.h"
+#include "fuzz/obj_paths.h"
 #include "mesh/build_mesh.h"
 #include "mesh/halfedge_view.h"
 #include "mesh/mesh_io.h"
@@ -233,6 +234,36 @@ TEST(ObjIo, ReadsEveryStatementExactly) {
   EXPECT_GT(degrees[3], 0u);
   EXPECT_GT(degrees[4], 0u);
   EXPECT_GT(degrees[5], 0u);
+}
+
+// read_obj parses the common `v` and `f` lines in place and hands anything else to the
+// general tokenizing reader: both must read the same soup, or fail with the same message.
+TEST(ObjIo, FastPathReadsWhatTheGeneralPathReads) {
+  std::vector<std::string> texts = {test::read_file(test::data("bunny.obj"))};
+  for (std::uint64_t seed : {1, 2, 3}) texts.push_back(random_obj(10, seed).text);
+  const std::string head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+  for (const char* line :
+       {"f 1 2 3", "f -3 -2 -1", "f 1/1 2/1 3/1", "f 1//1 2//1 3//1", "f 1/1/1 2/1/1 3/1/1", "f 1/ 2/ 3/",
+        "f 1// 2// 3//", "f 1/1/ 2 3", "f +1 2 3", "f 1 2 3 # c", "f 1 2 3#c", "f\t1\t2\t3\t", "f 1 2", "f 1 2 4",
+        "f 0 1 2", "f 1 2 3/2", "f 1/1/1/1 2 3", "f 1 2 3 x", "f 01 2 3", "f 1 2 99999999999999999999",
+        "v 1 2 3 4", "v 1 2", "v 1 2 3 1", "v +1 2 3", "v 1e400 0 0", "v nan 0 0", "v inf 0 0", "v -0 0x1 0",
+        "v 1. .5 -.5e-3", "v 1 2 3 0.5 0.5 0.5", "v\t1\t2\t3\t", "  v 1 2 3", "vv 1 2 3", "v 1 2 3\r"}) {
+    texts.push_back(head + line + "\nf 1 2 3\n");
+    texts.push_back(head + "g part\n" + line + "\nf 1 2 3\nv 1 1 1 0.2 0.3 0.4\n" + line + "\n");
+  }
+  std::size_t read = 0, refused = 0;
+  for (const std::string& text : texts) {
+    try {
+      fuzz::check_obj_paths_agree(text);
+      ++read;
+    } catch (const InputError&) {
+      ++refused;
+    } catch (const std::logic_error& e) {
+      ADD_FAILURE() << e.what() << " on:\n" << text.substr(0, 400);
+    }
+  }
+  EXPECT_GT(read, 10u);
+  EXPECT_GT(refused, 10u);
 }
 
 TEST(ObjIo, RoundTripIsExactAndStable) {

@@ -6,12 +6,16 @@
 
 namespace ffd {
 
-void append_number(std::string& out, double x) {
+char* format_number_to(char* first, double x) {
   if (x == 0.0) x = 0.0;  // -0 prints as 0: the sign of zero carries no geometry
-  char buf[32];
-  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x);
+  auto [end, ec] = std::to_chars(first, first + kNumberChars, x);
   (void)ec;  // 32 bytes always suffice for a double
-  out.append(buf, end);
+  return end;
+}
+
+void append_number(std::string& out, double x) {
+  char buf[kNumberChars];
+  out.append(buf, format_number_to(buf, x));
 }
 
 std::string format_number(double x) {

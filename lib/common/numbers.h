@@ -1,6 +1,7 @@
 // Exact text forms of numbers: shortest round-trip formatting and strict parsing.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -11,6 +12,11 @@ namespace ffd {
 /// 1e23 may be written out as its exact integer). Non-finite values are
 /// written as "nan"/"inf" so that a bug never hides as a plausible number.
 void append_number(std::string& out, double x);
+
+/// Writes append_number's text of x at `first` (room for kNumberChars characters) and
+/// returns the end; for writers that format into their own buffer.
+constexpr std::size_t kNumberChars = 32;
+char* format_number_to(char* first, double x);
 
 /// The shortest round-trip text of x.
 std::string format_number(double x);

@@ -4,7 +4,11 @@
 #include "common/errors.h"
 #include "common/numbers.h"
 #include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
 #include "mesh/text_lines.h"
+#include "mesh/text_sink.h"
 
 namespace ffd {
 namespace {
@@ -123,19 +127,130 @@ void set_state(std::string_view line, std::string_view key, ObjState& state, boo
   }
 }
 
+// The fast path for the two lines that make up nearly every OBJ, `v x y z` and
+// `f c1 c2 c3 ...` (corners `v`, `v/t`, `v//n`, `v/t/n`): they are parsed in place,
+// without splitting into tokens. A fast reader returns false, having changed nothing,
+// at anything it does not take in full (a comment, a '+' sign, colours, a bad index);
+// the general path then reads that line and gives its error, so both paths accept the
+// same text and build the same soup (tests and the obj fuzz target check this).
+bool blank(char c) { return c == ' ' || c == '\t'; }
+
+const char* skip_blanks(const char* p, const char* end) {
+  while (p < end && blank(*p)) ++p;
+  return p;
+}
+
+// A finite number at p that ends at a blank or the line's end; false otherwise.
+bool fast_number(const char*& p, const char* end, double& value) {
+  const auto [next, ec] = std::from_chars(p, end, value, std::chars_format::general);
+  if (ec != std::errc() || next == p || (next < end && !blank(*next)) || !std::isfinite(value)) return false;
+  p = next;
+  return true;
+}
+
+// A non-zero index at p resolved against `count` (as resolve_index does), ending at a
+// blank, '/', or the line's end when `slash` is set (else at a blank or the end).
+bool fast_index(const char*& p, const char* end, std::size_t count, bool slash, std::int64_t& index) {
+  long long raw = 0;
+  const auto [next, ec] = std::from_chars(p, end, raw);
+  if (ec != std::errc() || next == p || raw == 0) return false;
+  if (next < end && !blank(*next) && !(slash && *next == '/')) return false;
+  const long long resolved = raw > 0 ? raw - 1 : static_cast<long long>(count) + raw;
+  if (resolved < 0 || resolved >= static_cast<long long>(count)) return false;
+  p = next;
+  index = resolved;
+  return true;
+}
+
+bool read_vertex_fast(std::string_view line, PolygonSoup& soup, bool any_color) {
+  const char* p = line.data() + 1;
+  const char* end = line.data() + line.size();
+  Eigen::Vector3d v;
+  for (int k = 0; k < 3; ++k) {
+    p = skip_blanks(p, end);
+    if (!fast_number(p, end, v[k])) return false;
+  }
+  if (skip_blanks(p, end) != end) return false;
+  soup.positions.push_back(v);
+  if (any_color) soup.colors.push_back(Eigen::Vector3f(0.8f, 0.8f, 0.8f));
+  return true;
+}
+
+// One corner `v`, `v/t`, `v//n` or `v/t/n` at p, into `corner` (t, n: -1 when absent).
+bool fast_corner(const char*& p, const char* end, const PolygonSoup& soup, std::int64_t corner[3]) {
+  corner[1] = corner[2] = -1;
+  if (!fast_index(p, end, soup.positions.size(), true, corner[0])) return false;
+  if (p == end || *p != '/') return true;
+  ++p;
+  if (p < end && *p != '/' && !fast_index(p, end, soup.uvs.size(), true, corner[1])) return false;
+  if (p == end || *p != '/') return p == end || blank(*p);
+  ++p;
+  return fast_index(p, end, soup.normals.size(), false, corner[2]);
+}
+
+bool read_face_fast(std::string_view line, std::int32_t group, std::size_t n, PolygonSoup& soup,
+                    std::vector<std::int64_t>& corners) {
+  const char* p = line.data() + 1;
+  const char* end = line.data() + line.size();
+  corners.clear();
+  for (p = skip_blanks(p, end); p < end; p = skip_blanks(p, end)) {
+    std::int64_t c[3];
+    if (!fast_corner(p, end, soup, c)) return false;
+    corners.insert(corners.end(), c, c + 3);
+  }
+  if (corners.size() < 9) return false;
+  for (std::size_t i = 0; i < corners.size(); i += 3)
+    soup.elements.add_corner(static_cast<std::uint32_t>(corners[i]), static_cast<std::int32_t>(corners[i + 1]),
+                             static_cast<std::int32_t>(corners[i + 2]));
+  soup.elements.close(ElementKind::Polygon, group, static_cast<std::uint32_t>(std::min<std::size_t>(n, 0xffffffffu)));
+  return true;
+}
+
+// Reserves the soup's arrays for the `v` and `f` lines the text holds (counted in one
+// memchr pass), so that they are allocated once rather than grown: on a 1M-vertex file the
+// pass costs a few ms and saves the copies and page faults of growing. Only lines long
+// enough to be valid count ("v 0 0 0", "f 1 2 3"), so junk input reserves no more than
+// the same bytes of valid lines would need.
+void reserve_for(std::string_view text, PolygonSoup& soup) {
+  std::size_t vertices = 0, faces = 0;
+  const char* p = text.data();
+  const char* end = p + text.size();
+  while (p < end) {
+    const auto* newline = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+    const char* stop = newline ? newline : end;
+    if (stop - p >= 7 && blank(p[1])) {
+      vertices += p[0] == 'v' && stop - p >= 8;
+      faces += p[0] == 'f';
+    }
+    p = stop + 1;
+  }
+  soup.positions.reserve(vertices);
+  soup.elements.reserve(faces, 3);
+  soup.elements.lines.reserve(faces);
+}
+
 }  // namespace
 
-PolygonSoup read_obj(std::string_view text, const std::string& file) {
+namespace {
+
+PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool fast) {
   PolygonSoup soup;
+  reserve_for(text, soup);
   LineScanner lines(text);
   std::string_view line;
   std::vector<std::string_view> tokens;
+  std::vector<std::int64_t> corners;
   ObjState state;
   bool state_changed = false;
   bool any_color = false;
 
   while (lines.next(line)) {
     const std::size_t n = lines.number();
+    if (fast && line.size() > 2 && blank(line[1])) {
+      if (line[0] == 'v' && read_vertex_fast(line, soup, any_color)) continue;
+      const auto group = static_cast<std::int32_t>(soup.groups.size()) - 1;
+      if (line[0] == 'f' && !state_changed && read_face_fast(line, group, n, soup, corners)) continue;
+    }
     split_tokens(line, tokens);
     if (tokens.empty()) continue;
     const std::string_view key = tokens[0];
@@ -163,95 +278,99 @@ PolygonSoup read_obj(std::string_view text, const std::string& file) {
   return soup;
 }
 
-namespace {
-
-void append_state_change(std::string& out, const ObjState& from, const ObjState& to) {
-  if (to.object != from.object) out += "o " + to.object + "\n";
-  if (to.group != from.group) out += "g " + to.group + "\n";
-  if (to.material != from.material) out += "usemtl " + to.material + "\n";
-  if (to.smoothing != from.smoothing) out += "s " + to.smoothing + "\n";
-}
-
 }  // namespace
 
+PolygonSoup read_obj(std::string_view text, const std::string& file) { return read_obj_lines(text, file, true); }
+
+PolygonSoup read_obj_general(std::string_view text, const std::string& file) {
+  return read_obj_lines(text, file, false);
+}
+
 namespace {
 
-// Appends element e's statement ("f", "l" or "p" and its corners) to `out`.
-void append_element(std::string& out, const MeshElements& el, std::size_t e, const std::vector<std::int64_t>& corner_vn) {
-  out += el.kinds[e] == ElementKind::Polygon ? 'f' : el.kinds[e] == ElementKind::Line ? 'l' : 'p';
+void put_state_change(TextSink& out, const ObjState& from, const ObjState& to) {
+  const auto statement = [&out](const char* key, const std::string& value) {
+    out.put(key);
+    out.put(value);
+    out.put('\n');
+  };
+  if (to.object != from.object) statement("o ", to.object);
+  if (to.group != from.group) statement("g ", to.group);
+  if (to.material != from.material) statement("usemtl ", to.material);
+  if (to.smoothing != from.smoothing) statement("s ", to.smoothing);
+}
+
+// Writes element e's statement ("f", "l" or "p" and its corners).
+void put_element(TextSink& out, const MeshElements& el, std::size_t e, const std::vector<std::int64_t>& corner_vn) {
+  out.put(el.kinds[e] == ElementKind::Polygon ? 'f' : el.kinds[e] == ElementKind::Line ? 'l' : 'p');
   for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) {
-    out += ' ';
-    out += std::to_string(el.corners[c] + 1);
+    out.put(' ');
+    out.integer(el.corners[c] + std::uint64_t{1});
     const std::int32_t t = el.uv(c);
     const std::int64_t nn = corner_vn.empty() ? -1 : corner_vn[c];
     if (t >= 0 || nn >= 0) {
-      out += '/';
-      if (t >= 0) out += std::to_string(t + 1);
+      out.put('/');
+      if (t >= 0) out.integer(t + std::int64_t{1});
       if (nn >= 0) {
-        out += '/';
-        out += std::to_string(nn + 1);
+        out.put('/');
+        out.integer(nn + 1);
       }
     }
   }
-  out += '\n';
+  out.put('\n');
 }
 
-// Appends "tag a b c\n" (or with two values) to `out`.
+// Writes "tag a b c\n" (or with two values).
 template <class Vec>
-void append_vector_line(std::string& out, const char* tag, const Vec& v) {
-  out += tag;
+void put_vector_line(TextSink& out, const char* tag, const Vec& v) {
+  out.put(tag);
   for (Eigen::Index k = 0; k < v.size(); ++k) {
-    out += ' ';
-    append_number(out, v[k]);
+    out.put(' ');
+    out.number(v[k]);
   }
-  out += '\n';
-}
-
-// Writes `out` to `os` once it holds more than 4 MB, so memory stays bounded.
-void flush_if_large(std::ostream& os, std::string& out) {
-  if (out.size() < (1u << 22)) return;
-  os.write(out.data(), static_cast<std::streamsize>(out.size()));
-  out.clear();
+  out.put('\n');
 }
 
 }  // namespace
 
 void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal,
                VertexColors colors) {
-  std::string out;
-  out.reserve(1u << 23);
-  for (const std::string& line : mesh.header()) out += line + "\n";
+  TextSink out(os);
+  for (const std::string& line : mesh.header()) {
+    out.put(line);
+    out.put('\n');
+  }
   const ConstVec3Array p = mesh.positions();
   for (Eigen::Index i = 0; i < p.cols(); ++i) {
-    out += 'v';
+    out.put('v');
     for (int k = 0; k < 3; ++k) {
-      out += ' ';
-      append_number(out, p(k, i));
+      out.put(' ');
+      out.number(p(k, i));
     }
     if (colors)
       for (int k = 0; k < 3; ++k) {
-        out += ' ';
-        append_number(out, (*colors)[static_cast<std::size_t>(i)][k]);
+        out.put(' ');
+        out.number((*colors)[static_cast<std::size_t>(i)][k]);
       }
-    out += '\n';
-    flush_if_large(os, out);
+    out.put('\n');
   }
-  for (const Eigen::Vector2d& t : mesh.uvs()) append_vector_line(out, "vt", t);
+  for (const Eigen::Vector2d& t : mesh.uvs()) put_vector_line(out, "vt", t);
   // Normals: each corner's file normal carried to its vertex's deformed frame.
   const CornerNormals normals = transformed_file_normals(mesh, transform_normal);
-  for (const Eigen::Vector3d& n : normals.table) append_vector_line(out, "vn", n);
+  for (const Eigen::Vector3d& n : normals.table) put_vector_line(out, "vn", n);
 
   const MeshElements& el = mesh.elements();
-  ObjState current;
+  static const ObjState none;
+  std::int32_t current = -1;  // the group in force: none until a statement sets one
   for (std::size_t e = 0; e < el.size(); ++e) {
     const std::int32_t g = el.group(e);
-    const ObjState& next = g >= 0 ? mesh.groups()[g] : ObjState{};
-    append_state_change(out, current, next);
-    current = next;
-    append_element(out, el, e, normals.corner);
-    flush_if_large(os, out);
+    if (g != current) {
+      put_state_change(out, current >= 0 ? mesh.groups()[current] : none, g >= 0 ? mesh.groups()[g] : none);
+      current = g;
+    }
+    put_element(out, el, e, normals.corner);
   }
-  os.write(out.data(), static_cast<std::streamsize>(out.size()));
+  out.flush();
 }
 
 }  // namespace ffd

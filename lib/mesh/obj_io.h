@@ -25,6 +25,11 @@ namespace ffd {
 /// (lines, points, curves, NaN/inf, indices out of range).
 PolygonSoup read_obj(std::string_view text, const std::string& file);
 
+/// read_obj without its fast path for `v` and `f` lines: every line through the general
+/// tokenizing reader. The same soup, or the same error, as read_obj on any text; kept as
+/// the reference the fast path is tested and fuzzed against.
+PolygonSoup read_obj_general(std::string_view text, const std::string& file);
+
 /// Writes `mesh` (current positions) as OBJ with shortest round-trip numbers. File normals
 /// go through `transform_normal` when given (each distinct (normal, vertex) pair once);
 /// a normal shared by corners at several vertices is written once per distinct result.

@@ -6,6 +6,7 @@
 #include "common/errors.h"
 #include "common/numbers.h"
 #include "mesh/text_lines.h"
+#include "mesh/text_sink.h"
 
 namespace ffd {
 namespace {
@@ -188,45 +189,47 @@ PolygonSoup read_off(std::string_view text, const std::string& file) {
 }
 
 void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors) {
-  std::string out;
-  out.reserve(48 * (mesh.num_vertices() + mesh.num_faces()) + 64);
-  if (colors) out += 'C';
-  if (normals) out += 'N';
-  out += "OFF\n";
-  out += std::to_string(mesh.num_vertices()) + " " + std::to_string(mesh.num_faces()) + " 0\n";
+  TextSink out(os);
+  if (colors) out.put('C');
+  if (normals) out.put('N');
+  out.put("OFF\n");
+  out.integer(mesh.num_vertices());
+  out.put(' ');
+  out.integer(mesh.num_faces());
+  out.put(" 0\n");
   const ConstVec3Array p = mesh.positions();
   for (Eigen::Index i = 0; i < p.cols(); ++i) {
     for (int k = 0; k < 3; ++k) {
-      if (k) out += ' ';
-      append_number(out, p(k, i));
+      if (k) out.put(' ');
+      out.number(p(k, i));
     }
     if (normals)
       for (int k = 0; k < 3; ++k) {
-        out += ' ';
-        append_number(out, (*normals)(k, i));
+        out.put(' ');
+        out.number((*normals)(k, i));
       }
     if (colors) {
       // Integers 0..255, the common COFF form, so readers never guess the scale.
       const Eigen::Vector3f& c = (*colors)[static_cast<std::size_t>(i)];
       for (int k = 0; k < 3; ++k) {
-        out += ' ';
-        out += std::to_string(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+        out.put(' ');
+        out.integer(static_cast<std::int64_t>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f)));
       }
-      out += " 255";
+      out.put(" 255");
     }
-    out += '\n';
+    out.put('\n');
   }
   const MeshElements& el = mesh.elements();
   for (std::size_t f = 0; f < el.size(); ++f) {
-    if (el.kinds[f] != ElementKind::Polygon) continue;  // refused before writing (writable_as)
-    out += std::to_string(el.degree(f));
+    if (el.kinds[f] != ElementKind::Polygon) continue;  // refused before writing (check_writable)
+    out.integer(el.degree(f));
     for (std::uint32_t c = el.begin(f); c < el.end(f); ++c) {
-      out += ' ';
-      out += std::to_string(el.corners[c]);
+      out.put(' ');
+      out.integer(el.corners[c]);
     }
-    out += '\n';
+    out.put('\n');
   }
-  os.write(out.data(), static_cast<std::streamsize>(out.size()));
+  out.flush();
 }
 
 }  // namespace ffd
