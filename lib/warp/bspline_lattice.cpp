@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <memory>
 
 #include "common/errors.h"
 
@@ -157,40 +159,192 @@ void BSplineLattice::refresh_blocks() const {
 
 namespace {
 
-// Four doubles (x, y, z, unused) in one register: the three coordinates of a polynomial
-// coefficient are evaluated together (GCC vector extension: AVX with -march=native,
-// two SSE2 halves otherwise).
-typedef double v4d __attribute__((vector_size(32)));
+// Eight doubles, one per vertex: the lanes of the evaluation (GCC vector extension: one
+// AVX-512 register with -march=native on an AVX-512 CPU, AVX or SSE2 pieces elsewhere).
+// Every lane does exactly the arithmetic of its vertex alone, so no result depends on
+// which vertices share a register, on the order of the ids or on the thread count.
+constexpr int kLanes = 8;
+typedef double v8d __attribute__((vector_size(kLanes * sizeof(double))));
 
-// Horner's rule over one cell's power coefficients C[p][q][r] (Gain & Dodgson eq. 1 in
-// power form) at local coordinates (s, t, r): the displacement V and, with kGrad, its
-// partial derivatives (eq. 5-7 in power form) by the derivative-carrying Horner scheme.
+// Horner's rule over one cell's power coefficients C[p][q][r][xyz_] (Gain & Dodgson eq. 1
+// in power form) at eight points (s, t, r) of that cell, coordinate by coordinate: the
+// displacement V and, with kGrad, its partial derivatives (eq. 5-7 in power form) by the
+// derivative-carrying Horner scheme. The coefficients are broadcast: all lanes share the cell.
 template <int D, bool kGrad>
-inline void horner(const v4d* C, double s, double t, double r, v4d& V, v4d& Vs, v4d& Vt, v4d& Vr) {
+inline void horner_lanes(const double* C, v8d s, v8d t, v8d r, v8d V[3], v8d Vs[3], v8d Vt[3], v8d Vr[3]) {
   constexpr int N = D + 1;
-  V = Vs = Vt = Vr = v4d{0, 0, 0, 0};
-  for (int p = D; p >= 0; --p) {
-    v4d b{0, 0, 0, 0}, bt{0, 0, 0, 0}, br{0, 0, 0, 0};
-    for (int q = D; q >= 0; --q) {
-      const v4d* c = C + (p * N + q) * N;
-      v4d a = c[D], ar{0, 0, 0, 0};
-      for (int k = D - 1; k >= 0; --k) {
-        if (kGrad) ar = ar * r + a;
-        a = a * r + c[k];
+  const v8d zero = {};
+  for (int c = 0; c < 3; ++c) {
+    v8d v = zero, vs = zero, vt = zero, vr = zero;
+    for (int p = D; p >= 0; --p) {
+      v8d b = zero, bt = zero, br = zero;
+      for (int q = D; q >= 0; --q) {
+        const double* cq = C + 4 * ((p * N + q) * N) + c;
+        v8d a = zero + cq[4 * D], ar = zero;
+        for (int k = D - 1; k >= 0; --k) {
+          if (kGrad) ar = ar * r + a;
+          a = a * r + cq[4 * k];
+        }
+        if (kGrad) {
+          bt = bt * t + b;
+          br = br * t + ar;
+        }
+        b = b * t + a;
       }
       if (kGrad) {
-        bt = bt * t + b;
-        br = br * t + ar;
+        vs = vs * s + v;
+        vt = vt * s + bt;
+        vr = vr * s + br;
       }
-      b = b * t + a;
+      v = v * s + b;
     }
-    if (kGrad) {
-      Vs = Vs * s + V;
-      Vt = Vt * s + bt;
-      Vr = Vr * s + br;
-    }
-    V = V * s + b;
+    V[c] = v;
+    Vs[c] = vs;
+    Vt[c] = vt;
+    Vr[c] = vr;
   }
+}
+
+// m = cof(J) n (cofactor_times) and det J for eight lanes, with J = I + G K: G's columns are
+// the displacement's partials (dD/dσ, dD/dτ, dD/dρ), K the local-to-world Jacobian dσ/dx.
+inline void cofactor_lanes(const v8d Vs[3], const v8d Vt[3], const v8d Vr[3], const Eigen::Matrix3d& K,
+                           const v8d n[3], v8d m[3], v8d& det) {
+  v8d J[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) J[i][j] = (i == j ? 1.0 : 0.0) + (Vs[i] * K(0, j) + Vt[i] * K(1, j) + Vr[i] * K(2, j));
+  const auto cross = [&J](int a, int b, v8d out[3]) {  // column a × column b
+    for (int i = 0; i < 3; ++i) out[i] = J[(i + 1) % 3][a] * J[(i + 2) % 3][b] - J[(i + 2) % 3][a] * J[(i + 1) % 3][b];
+  };
+  v8d c0[3], c1[3], c2[3];
+  cross(1, 2, c0);
+  cross(2, 0, c1);
+  cross(0, 1, c2);
+  for (int i = 0; i < 3; ++i) m[i] = c0[i] * n[0] + c1[i] * n[1] + c2[i] * n[2];
+  det = J[0][0] * c0[0] + J[1][0] * c0[1] + J[2][0] * c0[2];
+}
+
+// One chunk of a thread's vertices, sorted by cell so that the eight lanes of a register
+// share their cell's coefficients, in structure-of-arrays form so that a register loads
+// its lanes straight from memory. Cells are numbered in the order they first appear (a
+// small open-addressing table: a chunk of a mesh's vertices spans few cells).
+struct CellChunk {
+  static constexpr int kSize = 2048, kSlots = 1024, kMaxCells = kSlots / 2;
+  // As located, in id order.
+  int count = 0, cells = 0;
+  std::uint32_t vertex[kSize];
+  std::uint16_t cell_of[kSize];
+  double local[3][kSize];
+  // Sorted by cell (kLanes of padding: a cell's last register reads into the next cell).
+  std::int32_t cell_block[kMaxCells];
+  int cell_start[kMaxCells + 1];
+  std::uint32_t sorted_vertex[kSize + kLanes];
+  double sorted[9][kSize + kLanes];  // local σ τ ρ, position x y z, normal x y z
+  std::int32_t slot_block[kSlots];
+  std::uint16_t slot_cell[kSlots];
+
+  CellChunk() {
+    for (std::int32_t& b : slot_block) b = -1;
+    for (double* row : sorted) std::fill(row, row + kSize + kLanes, 0.0);
+  }
+  /// Adds a vertex in `block` at local coordinates `u`; false (nothing added) when full.
+  bool add(std::uint32_t v, std::int32_t block, const double u[3]) {
+    if (count == kSize) return false;
+    int h = static_cast<int>((static_cast<std::uint32_t>(block) * 2654435761u) >> 22);
+    while (slot_block[h] != -1 && slot_block[h] != block) h = (h + 1) % kSlots;
+    if (slot_block[h] == -1) {
+      if (cells == kMaxCells) return false;
+      slot_block[h] = block;
+      slot_cell[h] = static_cast<std::uint16_t>(cells);
+      cell_block[cells++] = block;
+    }
+    vertex[count] = v;
+    cell_of[count] = slot_cell[h];
+    for (int a = 0; a < 3; ++a) local[a][count] = u[a];
+    ++count;
+    return true;
+  }
+  void sort(const Eigen::Ref<const Eigen::Matrix3Xd>& pos, const Eigen::Ref<const Eigen::Matrix3Xd>* nrm);
+  void clear() {
+    for (int h = 0; h < kSlots && cells > 0; ++h) slot_block[h] = -1;
+    count = cells = 0;
+  }
+};
+
+// Counting sort of the chunk by cell (stable), gathering each vertex's position and
+// normal beside its local coordinates.
+void CellChunk::sort(const Eigen::Ref<const Eigen::Matrix3Xd>& pos, const Eigen::Ref<const Eigen::Matrix3Xd>* nrm) {
+  std::fill(cell_start, cell_start + cells + 1, 0);
+  for (int i = 0; i < count; ++i) ++cell_start[cell_of[i] + 1];
+  for (int c = 0; c < cells; ++c) cell_start[c + 1] += cell_start[c];
+  int fill[kMaxCells];
+  for (int c = 0; c < cells; ++c) fill[c] = cell_start[c];
+  for (int i = 0; i < count; ++i) {
+    const int at = fill[cell_of[i]]++;
+    const std::uint32_t v = vertex[i];
+    sorted_vertex[at] = v;
+    for (int a = 0; a < 3; ++a) {
+      sorted[a][at] = local[a][i];
+      sorted[3 + a][at] = pos(a, v);
+      if (nrm) sorted[6 + a][at] = (*nrm)(a, v);
+    }
+  }
+}
+
+// What one evaluation reads and writes. out_nrm null: positions only.
+struct CellKernel {
+  const double* blocks;    // per block: [p][q][r][x, y, z, 0]
+  std::size_t block_size;  // doubles per block
+  Eigen::Matrix3d K;       // dσ/dx
+  Eigen::Ref<Eigen::Matrix3Xd>& out_pos;
+  Eigen::Ref<Eigen::Matrix3Xd>* out_nrm;
+};
+
+v8d load_lanes(const double* p) {
+  v8d x;
+  std::memcpy(&x, p, sizeof x);
+  return x;
+}
+
+// Evaluates the sorted chunk's vertices at [at, at + lanes) (all in one cell, lanes <= 8):
+// positions, and normals carried by the cofactor of the Jacobian. The lanes past `lanes`
+// hold the next cell's vertices or padding; their results are dropped.
+template <int D>
+void evaluate_lanes(const CellKernel& k, const CellChunk& chunk, int cell, int at, int lanes, std::size_t& folded) {
+  const double* C = k.blocks + static_cast<std::size_t>(chunk.cell_block[cell]) * k.block_size;
+  const v8d s = load_lanes(chunk.sorted[0] + at), t = load_lanes(chunk.sorted[1] + at),
+            r = load_lanes(chunk.sorted[2] + at);
+  v8d V[3], Vs[3], Vt[3], Vr[3], m[3], det, len;
+  if (k.out_nrm)
+    horner_lanes<D, true>(C, s, t, r, V, Vs, Vt, Vr);
+  else
+    horner_lanes<D, false>(C, s, t, r, V, Vs, Vt, Vr);
+  if (k.out_nrm) {
+    const v8d n[3] = {load_lanes(chunk.sorted[6] + at), load_lanes(chunk.sorted[7] + at),
+                      load_lanes(chunk.sorted[8] + at)};
+    cofactor_lanes(Vs, Vt, Vr, k.K, n, m, det);
+    const v8d len2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
+    for (int i = 0; i < kLanes; ++i) len[i] = std::sqrt(len2[i]);
+    for (int c = 0; c < 3; ++c) m[c] = m[c] / len;
+  }
+  for (int c = 0; c < 3; ++c) V[c] += load_lanes(chunk.sorted[3 + c] + at);
+  for (int i = 0; i < lanes; ++i) {
+    const std::uint32_t v = chunk.sorted_vertex[at + i];
+    k.out_pos.col(v) = Eigen::Vector3d(V[0][i], V[1][i], V[2][i]);
+    if (!k.out_nrm) continue;
+    k.out_nrm->col(v) = len[i] > 0 ? Eigen::Vector3d(m[0][i], m[1][i], m[2][i]) : Eigen::Vector3d::Zero();
+    folded += det[i] <= 0;
+  }
+}
+
+// Evaluates the chunk cell by cell, eight vertices at a time, and empties it.
+template <int D>
+void evaluate_chunk(const CellKernel& k, CellChunk& chunk, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                    const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, std::size_t& folded) {
+  chunk.sort(in_pos, k.out_nrm ? in_nrm : nullptr);
+  for (int cell = 0; cell < chunk.cells; ++cell)
+    for (int at = chunk.cell_start[cell]; at < chunk.cell_start[cell + 1]; at += kLanes)
+      evaluate_lanes<D>(k, chunk, cell, at, std::min(kLanes, chunk.cell_start[cell + 1] - at), folded);
+  chunk.clear();
 }
 
 }  // namespace
@@ -201,53 +355,48 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                               const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
                               Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const {
   constexpr int N = D + 1;
-  constexpr std::size_t kBlock = 4 * N * N * N;
   refresh_blocks();
+  const CellKernel kernel{blocks_.data(), 4 * N * N * N, local_to_world_jac_, out_pos, out_nrm};
   const Eigen::Matrix3d& inv = box_.inverse_axes();
   const Eigen::Vector3d& origin = box_.origin();
-  const Eigen::Matrix3d K = local_to_world_jac_;
-  const v4d* blocks = reinterpret_cast<const v4d*>(blocks_.data());
   std::size_t folded = 0, evaluated = 0;
+  constexpr std::ptrdiff_t kChunk = CellChunk::kSize;
   const std::ptrdiff_t n_ids = static_cast<std::ptrdiff_t>(ids.size());
-  // Vertices in id order (streaming memory access); each looks up its cell's block.
-#pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
-  for (std::ptrdiff_t t = 0; t < n_ids; ++t) {
-    const std::uint32_t v = ids[t];
-    const Eigen::Vector3d x = in_pos.col(v);
-    const Eigen::Vector3d u = inv * (x - origin);
-    std::int32_t block = -1;
-    double local[3];
-    if (inside(u)) {
-      int cell[3];
-      for (int a = 0; a < 3; ++a) {  // Lattice::locate, inlined for the B-spline's cells
-        const double sa = u[a] * cells_[a];
-        cell[a] = std::clamp(static_cast<int>(std::floor(sa)), 0, cells_[a] - 1);
-        local[a] = sa - cell[a];
+  const std::ptrdiff_t chunks = (n_ids + kChunk - 1) / kChunk;
+  // Chunks of consecutive ids (streaming memory access), each sorted by cell.
+#pragma omp parallel reduction(+ : folded, evaluated)
+  {
+    const std::unique_ptr<CellChunk> chunk(new CellChunk);
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+      for (std::ptrdiff_t t = c * kChunk; t < std::min(n_ids, (c + 1) * kChunk); ++t) {
+        const std::uint32_t v = ids[t];
+        const Eigen::Vector3d x = in_pos.col(v);
+        const Eigen::Vector3d u = inv * (x - origin);
+        std::int32_t block = -1;
+        double local[3];
+        if (inside(u)) {
+          int cell[3];
+          for (int a = 0; a < 3; ++a) {  // Lattice::locate, inlined for the B-spline's cells
+            const double sa = u[a] * cells_[a];
+            cell[a] = std::clamp(static_cast<int>(std::floor(sa)), 0, cells_[a] - 1);
+            local[a] = sa - cell[a];
+          }
+          block = block_of_[(static_cast<std::size_t>(cell[2]) * cells_[1] + cell[1]) * cells_[0] + cell[0]];
+        }
+        if (block < 0) {  // outside, or no moved point reaches this cell: identity, bit for bit
+          out_pos.col(v) = x;
+          if (out_nrm) out_nrm->col(v) = in_nrm->col(v);
+          continue;
+        }
+        ++evaluated;
+        if (!chunk->add(v, block, local)) {
+          evaluate_chunk<D>(kernel, *chunk, in_pos, in_nrm, folded);
+          chunk->add(v, block, local);
+        }
       }
-      block = block_of_[(static_cast<std::size_t>(cell[2]) * cells_[1] + cell[1]) * cells_[0] + cell[0]];
+      evaluate_chunk<D>(kernel, *chunk, in_pos, in_nrm, folded);
     }
-    if (block < 0) {  // outside, or no moved point reaches this cell: identity, bit for bit
-      out_pos.col(v) = x;
-      if (out_nrm) out_nrm->col(v) = in_nrm->col(v);
-      continue;
-    }
-    ++evaluated;
-    const v4d* C = blocks + static_cast<std::size_t>(block) * (kBlock / 4);
-    v4d V, Vs, Vt, Vr;
-    if (!out_nrm) {
-      horner<D, false>(C, local[0], local[1], local[2], V, Vs, Vt, Vr);
-      out_pos.col(v) = x + Eigen::Vector3d(V[0], V[1], V[2]);
-      continue;
-    }
-    horner<D, true>(C, local[0], local[1], local[2], V, Vs, Vt, Vr);
-    out_pos.col(v) = x + Eigen::Vector3d(V[0], V[1], V[2]);
-    Eigen::Matrix3d G;  // columns: dD/dσ, dD/dτ, dD/dρ
-    G << Vs[0], Vt[0], Vr[0], Vs[1], Vt[1], Vr[1], Vs[2], Vt[2], Vr[2];
-    const Eigen::Matrix3d J = Eigen::Matrix3d::Identity() + G * K;
-    const Eigen::Vector3d m = cofactor_times(J, in_nrm->col(v));
-    const double len = m.norm();
-    out_nrm->col(v) = len > 0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
-    if (J.determinant() <= 0) ++folded;
   }
   counts.evaluated += evaluated;
   counts.folded += folded;

@@ -11,8 +11,8 @@
 //   degree-1 derivatives on the box's faces: identity outside (bit for bit), C^(degree-1)
 //   across the faces. A cubic lattice needs l >= 4 for any movable point.
 // - Evaluation is per cell in power form: each altered cell keeps the polynomial
-//   coefficients of its displacement, evaluated per vertex by Horner's rule with the
-//   three coordinates in one SIMD register (value and Jacobian together); cells without
+//   coefficients of its displacement, evaluated by Horner's rule for eight vertices of
+//   one cell at a time, one per SIMD lane (value and Jacobian together); cells without
 //   moved points are skipped (the paper's bit index).
 #pragma once
 
