@@ -26,16 +26,9 @@ void PrintTo(const Figure7& f, std::ostream* os) { *os << f.name; }
 
 class Figure7Test : public ::testing::TestWithParam<Figure7> {};
 
-// The checked-in meshes come from the optimized build. A build whose floating point differs
-// in the last bits (the sanitizers' -O1 build) may split two mirror-image edges of equal
-// length in the other order (the remesher splits longest first, ties by edge index), so
-// that the same new vertices get each other's numbers: there the surfaces are compared.
-#ifdef FFD_SANITIZE
-const char* const kFigure7Metric = " --metric hausdorff";
-#else
-const char* const kFigure7Metric = "";
-#endif
-
+// The checked-in meshes come from the optimized build; every build must match them vertex
+// for vertex, the sanitizers' portable -O1 build (no FMA) included: the remesher's
+// longest-first order treats lengths equal but for their last bits as ties.
 TEST_P(Figure7Test, MatchesTheCheckedInMeshesAndDecimatesWhatExtrusionRefined) {
   const Figure7& f = GetParam();
   const std::string dir = temp_folder("fig7_" + f.name);
@@ -47,7 +40,7 @@ TEST_P(Figure7Test, MatchesTheCheckedInMeshesAndDecimatesWhatExtrusionRefined) {
       << err;
   for (const std::string& out : {f.name + "_extruded.obj", f.name + ".obj"}) {
     std::string report;
-    EXPECT_EQ(run_tool("compare " + dir + "/" + out + " " + data("expected/" + out) + " --tolerance 1e-9" + kFigure7Metric, &report),
+    EXPECT_EQ(run_tool("compare " + dir + "/" + out + " " + data("expected/" + out) + " --tolerance 1e-9", &report),
               0)
         << out << ": " << report;
   }

@@ -3,6 +3,7 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 
 #include <algorithm>
+#include <cstring>
 #include <array>
 #include <cmath>
 #include <map>
@@ -131,10 +132,27 @@ private:
   std::vector<Domain> domains_;
   double l_max_ = 0, eps_max_ = 0, eps_min_ = 0, tan_max_ = 0, tan_min_ = 0;
   std::vector<std::uint8_t> candidate_;  // decimation candidates from the scan
-  using HeapEntry = std::pair<double, std::uint32_t>;  // (length, edge); longest first, then lowest index
+  // Edges to split, longest first. Gain & Dodgson do not order ties; here lengths that
+  // agree to 32 bits of mantissa (1 part in 4e9) tie, and the lowest edge index goes
+  // first. Comparing exact lengths would let the last bits decide between mirror-image
+  // edges, and those differ between builds that contract floating point differently
+  // (FFD_NATIVE=OFF has no FMA): the same surface, with its new vertices numbered apart.
+  struct HeapEntry {
+    double key;  // the length with its low 20 mantissa bits cleared
+    double len;
+    std::uint32_t edge;
+    HeapEntry(double length, std::uint32_t index) : key(coarse(length)), len(length), edge(index) {}
+    static double coarse(double x) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &x, sizeof bits);
+      bits &= ~((std::uint64_t{1} << 20) - 1);
+      std::memcpy(&x, &bits, sizeof bits);
+      return x;
+    }
+  };
   struct HeapOrder {
     bool operator()(const HeapEntry& a, const HeapEntry& b) const {
-      return a.first < b.first || (a.first == b.first && a.second > b.second);
+      return a.key < b.key || (a.key == b.key && a.edge > b.edge);
     }
   };
   std::priority_queue<HeapEntry, std::vector<HeapEntry>, HeapOrder> heap_;
@@ -395,7 +413,8 @@ void Remesher::refine() {
   while (!heap_.empty()) {
     if (progress_ && ++popped % kReportEvery == 0)
       report(kScanShare + refine_share_ * static_cast<double>(popped) / static_cast<double>(popped + heap_.size()));
-    const auto [len, index] = heap_.top();
+    const double len = heap_.top().len;
+    const std::uint32_t index = heap_.top().edge;
     heap_.pop();
     const EdgeIndex e(index);
     const HalfedgeIndex h = sm_.halfedge(e);
