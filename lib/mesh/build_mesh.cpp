@@ -32,11 +32,9 @@ Mesh build_mesh(PolygonSoup soup, const std::string& file) {
   Mesh mesh;
   mesh.set_source(file);
   const std::size_t n = soup.positions.size();
-  mesh.resize_vertices(n);
-  Vec3Array p = mesh.positions();
-  for (std::size_t i = 0; i < n; ++i) p.col(static_cast<Eigen::Index>(i)) = soup.positions[i];
+  Eigen::Matrix3Xd positions(3, static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) positions.col(static_cast<Eigen::Index>(i)) = soup.positions[i];
   std::vector<Eigen::Vector3d>().swap(soup.positions);
-  mesh.rest_positions() = mesh.positions();
   if (!soup.colors.empty()) {
     soup.colors.resize(n, Eigen::Vector3f(0.8f, 0.8f, 0.8f));
     mesh.colors() = std::move(soup.colors);
@@ -48,7 +46,7 @@ Mesh build_mesh(PolygonSoup soup, const std::string& file) {
   mesh.file_uv_count = mesh.uvs().size();
   mesh.file_normal_count = mesh.file_normals().size();
   mesh.set_elements(std::move(soup.elements));
-  mesh.recompute_rest_normals(true);
+  mesh.set_vertices(std::move(positions));
   return mesh;
 }
 

@@ -76,6 +76,17 @@ void Mesh::resize_vertices(std::size_t count) {
   if (!vertex_levels_.empty()) vertex_levels_.resize(count, 0);
 }
 
+void Mesh::set_vertices(Eigen::Matrix3Xd positions) {
+  const std::size_t count = static_cast<std::size_t>(positions.cols());
+  rest_ = positions;
+  pos_ = std::move(positions);
+  rest_normal_.resize(3, pos_.cols());  // compute_vertex_normals writes every column
+  for (auto& [name, m] : attributes_) resize_columns(m, pos_.cols());
+  if (!colors_.empty()) colors_.resize(count, Eigen::Vector3f(0.8f, 0.8f, 0.8f));
+  if (!vertex_levels_.empty()) vertex_levels_.resize(count, 0);
+  recompute_rest_normals(true);
+}
+
 Vec3Array Mesh::vec3_attribute(const std::string& name) {
   auto [it, created] = attributes_.try_emplace(name);
   if (created) it->second = Eigen::Matrix3Xd::Zero(3, pos_.cols());

@@ -90,6 +90,10 @@ public:
   /// Sets the vertex count to n: positions, normals and every per-vertex attribute are
   /// kept for the first min(n, old) vertices and zero past them.
   void resize_vertices(std::size_t n);
+  /// Makes `positions` the vertices, rest and current, with the normals of the elements
+  /// already set; every other per-vertex attribute is resized as by resize_vertices.
+  /// What build_mesh does, without resize_vertices' zero fill of arrays that are written next.
+  void set_vertices(Eigen::Matrix3Xd positions);
 
   /// Rest positions: where each vertex lives before the warps of the current stack.
   Vec3Array rest_positions() { return map(rest_); }
