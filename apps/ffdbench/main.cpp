@@ -7,11 +7,14 @@
 #include <omp.h>
 
 #include "bench.h"
+#include "child_run.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "script/runner.h"
 
 int main(int argc, char** argv) {
+  // Launcher mode (child_run.h): first, while this process is still small.
+  if (argc > 1 && std::strcmp(argv[1], "--launch") == 0) return ffd::bench::launch_main(argc, argv);
   ffd::bench::Context ctx;
   ctx.meshes = "../shared/meshes";
   ctx.test_data = "test_data";
@@ -53,6 +56,9 @@ int main(int argc, char** argv) {
   } catch (const ffd::InputError& e) {
     std::fprintf(stderr, "ffdbench: error: %s\n", e.what());
     return 2;
+  } catch (const ffd::Error& e) {  // IoError and the like: a failure while running
+    std::fprintf(stderr, "ffdbench: error: %s\n", e.what());
+    return 3;
   }
   if (!ran) {
     std::fprintf(stderr, "ffdbench: error: no suite named '%s'\n", suite.c_str());
