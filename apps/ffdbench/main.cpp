@@ -1,4 +1,5 @@
-// ffdbench [--suite NAME|all] [--quick] [--meshes DIR] [--test-data DIR] [-o FILE]
+// ffdbench [--suite NAME|all] [--quick] [--meshes DIR] [--test-data DIR] [--ffdtool PATH]
+//          [--blender PATH] [-o FILE]
 // Runs benchmark suites and prints one JSON object: suite -> rows with throughput,
 // times and ratios against a baseline measured in the same run.
 #include <cstdio>
@@ -32,9 +33,15 @@ int main(int argc, char** argv) {
     else if (a == "--quick") ctx.quick = true;
     else if (a == "--meshes") ctx.meshes = value();
     else if (a == "--test-data") ctx.test_data = value();
+    else if (a == "--ffdtool") ctx.ffdtool = value();
+    else if (a == "--blender") ctx.blender = value();
     else if (a == "-o") output = value();
     else if (a == "--help" || a == "-h") {
-      std::printf("usage: ffdbench [--suite NAME|all] [--quick] [--meshes DIR] [--test-data DIR] [-o FILE]\nsuites:\n");
+      std::printf("usage: ffdbench [--suite NAME|all] [--quick] [--meshes DIR] [--test-data DIR]\n"
+                  "                [--ffdtool PATH] [--blender PATH] [-o FILE]\n"
+                  "  --ffdtool PATH  ffdtool for the io suite (default: ../ffdtool/ffdtool beside ffdbench)\n"
+                  "  --blender PATH  Blender for the io suite's side-by-side rows (default: blender on PATH)\n"
+                  "suites:\n");
       for (const auto& s : ffd::bench::suites()) std::printf("  %-8s %s\n", s.name, s.what);
       return 0;
     } else {
