@@ -11,7 +11,7 @@
 // Without Blender the Blender rows say how to install it and the suite still succeeds.
 #include <fcntl.h>
 #include <omp.h>
-#include <sys/stat.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -28,6 +28,7 @@
 #include "bench.h"
 #include "child_run.h"
 #include "common/errors.h"
+#include "common/timer.h"
 #include "mesh/build_mesh.h"
 #include "mesh/mesh_io.h"
 #include "warp/bspline_lattice.h"
@@ -75,12 +76,18 @@ std::string output_format(const Format& f) {
   return name == "ply_binary" ? "ply_ascii" : name == "stl_binary" ? "stl_ascii" : name;
 }
 
+/// The median of `values` (the upper one of an even count, as median_ms).
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values.empty() ? 0 : values[values.size() / 2];
+}
+
 /// x rounded to 6 decimals, as float exporters (Blender's) write coordinates.
 double round6(double x) { return std::round(x * 1e6) / 1e6; }
 
 /// A height field on an n × n grid over [0,1]² (n² vertices, two triangles a cell), z a
 /// few smooth bumps; every coordinate rounded to 6 decimals.
-Mesh height_field(int n) {
+PolygonSoup height_field(int n) {
   PolygonSoup soup;
   soup.positions.reserve(static_cast<std::size_t>(n) * n);
   for (int j = 0; j < n; ++j)
@@ -97,7 +104,21 @@ Mesh height_field(int n) {
       soup.elements.add_polygon({a, b, d});
       soup.elements.add_polygon({a, d, c});
     }
-  return build_mesh(std::move(soup), "grid");
+  return soup;
+}
+
+/// Median ms over `repeats` (after one warm-up run, as median_ms) of build_mesh on a
+/// copy of `soup` (the copy not timed): the step every reader ends with, the same for
+/// every format.
+double build_mesh_ms(const PolygonSoup& soup, int repeats) {
+  std::vector<double> times;
+  for (int i = 0; i <= std::max(1, repeats); ++i) {
+    PolygonSoup copy = soup;
+    Stopwatch clock;
+    const Mesh mesh = build_mesh(std::move(copy), "grid");
+    if (i > 0) times.push_back(clock.ms());
+  }
+  return median(times);
 }
 
 /// Appends the bytes of `value` (host order: little-endian on the machines we run on).
@@ -166,23 +187,35 @@ void write_format(const Format& f, const std::string& path, const Mesh& mesh) {
   else write_stl_binary(path, mesh);
 }
 
-/// The baseline: `path`'s bytes read with read(2) into one buffer, as read_mesh starts;
-/// returns the bytes read. \throw IoError if it cannot be read.
-std::size_t read_file_bytes(const std::string& path) {
+/// `path`'s bytes read with read(2) into buf[0, capacity); returns the bytes read.
+/// \throw IoError if it cannot be read.
+std::size_t read_file_bytes(const std::string& path, char* buf, std::size_t capacity) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  struct stat st {};
-  if (fd < 0 || ::fstat(fd, &st) != 0) throw IoError(At{path}, std::strerror(errno));
-  const std::size_t size = static_cast<std::size_t>(st.st_size);
-  std::unique_ptr<char[]> buf(new char[size]);
+  if (fd < 0) throw IoError(At{path}, std::strerror(errno));
   std::size_t done = 0;
-  while (done < size) {
-    const ssize_t got = ::read(fd, buf.get() + done, size - done);
+  while (done < capacity) {
+    const ssize_t got = ::read(fd, buf + done, capacity - done);
     if (got < 0 && errno == EINTR) continue;
     if (got <= 0) break;
     done += static_cast<std::size_t>(got);
   }
   ::close(fd);
   return done;
+}
+
+/// The baselines for reading `path` (`bytes` long), medians over `repeats`: `copy_ms`,
+/// read(2) into a buffer allocated and touched beforehand (the page-cache copy alone),
+/// and `fresh_ms`, into a fresh anonymous mapping each time (plus the page faults a new
+/// process such as ffdtool run pays; malloc may or may not hand out touched memory).
+void read_baselines(const std::string& path, std::size_t bytes, int repeats, double& copy_ms, double& fresh_ms) {
+  std::vector<char> buf(bytes + 1, 1);
+  copy_ms = median_ms(repeats, [&] { read_file_bytes(path, buf.data(), buf.size()); });
+  fresh_ms = median_ms(repeats, [&] {
+    void* p = ::mmap(nullptr, bytes + 1, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) throw IoError(At{path}, "mmap: " + std::string(std::strerror(errno)));
+    read_file_bytes(path, static_cast<char*>(p), bytes + 1);
+    ::munmap(p, bytes + 1);
+  });
 }
 
 /// Where the suite keeps its files: temp_directory_path()/ffdbench-io-PID, removed with
@@ -206,8 +239,9 @@ std::string grid_file(const TempFolder& dir, const Format& f, std::size_t vertic
 double mb_per_s(double bytes, double ms) { return bytes / 1e3 / ms; }
 
 /// One files row: writes the grid in format `f` (timed when ffdtool writes it), then
-/// times read_mesh and the read(2) baseline of the same file; medians over `repeats`.
-json file_row(const Format& f, const Mesh& mesh, const TempFolder& dir, int repeats) {
+/// times read_mesh and the read(2) baselines of the same file; medians over `repeats`.
+/// `build_ms` (build_mesh_ms) is the part of read_ms common to all formats.
+json file_row(const Format& f, const Mesh& mesh, const TempFolder& dir, int repeats, double build_ms) {
   const std::string path = grid_file(dir, f, mesh.num_vertices());
   json write_ms = nullptr, write_rate = nullptr;
   if (f.ffdtool_writes) write_ms = median_ms(repeats, [&] { write_mesh(path, mesh); });
@@ -216,7 +250,8 @@ json file_row(const Format& f, const Mesh& mesh, const TempFolder& dir, int repe
   if (f.ffdtool_writes) write_rate = mb_per_s(bytes, write_ms.get<double>());
   std::size_t read_vertices = 0;
   const double read_ms = median_ms(repeats, [&] { read_vertices = read_mesh(path).num_vertices(); });
-  const double bytes_ms = median_ms(repeats, [&] { read_file_bytes(path); });
+  double bytes_ms = 0, fresh_ms = 0;
+  read_baselines(path, static_cast<std::size_t>(bytes), repeats, bytes_ms, fresh_ms);
   json r = {{"format", f.name},
             {"vertices", mesh.num_vertices()},
             {"bytes", bytes},
@@ -226,15 +261,12 @@ json file_row(const Format& f, const Mesh& mesh, const TempFolder& dir, int repe
             {"write_mb_per_s", write_rate},
             {"read_bytes_ms", bytes_ms},
             {"read_bytes_mb_per_s", mb_per_s(bytes, bytes_ms)},
-            {"read_vs_page_cache", read_ms / bytes_ms}};
+            {"read_vs_page_cache", read_ms / bytes_ms},
+            {"read_bytes_fresh_buffer_ms", fresh_ms},
+            {"read_vs_fresh_buffer", read_ms / fresh_ms},
+            {"build_mesh_ms", build_ms}};
   if (read_vertices != mesh.num_vertices()) r["vertices_read"] = read_vertices;
   return r;
-}
-
-/// The median of `values` (the upper one of an even count, as median_ms).
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values.empty() ? 0 : values[values.size() / 2];
 }
 
 /// The last non-empty line of `text`, for error messages.
@@ -483,10 +515,12 @@ void bench_io(Context& ctx) {
   std::map<std::string, json> largest;  // format -> its files row at the largest size
   Mesh mesh;
   for (int n : grid_sides(ctx.quick)) {
-    mesh = height_field(n);
+    PolygonSoup soup = height_field(n);
+    const double build_ms = build_mesh_ms(soup, ctx.repeats);
+    mesh = build_mesh(std::move(soup), "grid");
     for (const Format& f : formats()) {
       std::fprintf(stderr, "ffdbench: io: %s, %zu vertices\n", f.name, mesh.num_vertices());
-      files.push_back(file_row(f, mesh, dir, ctx.repeats));
+      files.push_back(file_row(f, mesh, dir, ctx.repeats, build_ms));
       largest[f.name] = files.back();
     }
   }
