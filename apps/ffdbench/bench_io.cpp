@@ -1,7 +1,8 @@
 // Mesh file I/O, per format (OBJ, OFF, ASCII and binary PLY, ASCII and binary STL), on a
-// height-field grid of 100k and 1M vertices:
+// height-field grid of 100k and 1M vertices (--quick: 20k, one repeat):
 // - files: read and write MB/s (MB = 10^6 bytes), against read(2) of the same file's
-//   bytes into one buffer (the page-cache copy) measured in the same run;
+//   bytes measured in the same run, into a buffer touched beforehand (the page-cache
+//   copy) and into a fresh mapping (with the page faults a new process pays);
 // - ffdtool_run: the end-to-end `ffdtool run` of a one-point lattice edit, one thread, as
 //   a child process (wall time, peak RSS: child_run.h), against the in-process read + write
 //   of the same files;
