@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Runs the benchmarks and writes bench_out/bench.json (also printed).
-# Usage: scripts/bench.sh [--suite ffd|remesh|bcm|cholesky|all] [--quick]
+# Usage: scripts/bench.sh [--suite ffd|remesh|bcm|cholesky|io|all] [--quick]
+# The io suite runs Blender side by side when `blender` is on PATH (not a setup.sh
+# package: it is a benchmark peer, ~90 MB); without it those rows say it is missing.
 # The real meshes come from ../shared/meshes when present, else from Debian's
 # libcgal-demo package (downloaded once with apt-get download, unpacked into .cache/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-scripts/build.sh --target ffdbench
+scripts/build.sh --target ffdbench ffdtool  # the io suite runs ffdtool
 meshes="${FFD_MESHES:-../shared/meshes}"
 if [ ! -f "$meshes/bunny00.off" ]; then
   meshes=.cache/meshes
@@ -18,6 +20,13 @@ if [ ! -f "$meshes/bunny00.off" ]; then
       data/meshes/armadillo.off data/meshes/bunny00.off data/meshes/refined_elephant.off
     cp .cache/deb/data/meshes/*.off "$meshes/"
   fi
+fi
+suite=all
+for ((i = 1; i <= $#; i++)); do
+  if [ "${!i}" = --suite ] && [ $i -lt $# ]; then j=$((i + 1)); suite="${!j}"; fi
+done
+if { [ "$suite" = io ] || [ "$suite" = all ]; } && ! command -v blender >/dev/null 2>&1; then
+  echo "bench: no blender on PATH; apt-get install blender gives the io suite's side-by-side rows"
 fi
 mkdir -p bench_out
 build/apps/ffdbench/ffdbench --meshes "$meshes" --test-data test_data -o bench_out/bench.json "$@"

@@ -18,6 +18,8 @@ struct Context {
   std::string test_data;
   bool quick = false;  // smaller sizes and fewer repeats, for a smoke run
   int repeats = 5;
+  std::string ffdtool;  // the io suite's ffdtool (empty: the one next to ffdbench)
+  std::string blender;  // the io suite's Blender (empty: blender on PATH, if any)
   nlohmann::ordered_json out = nlohmann::ordered_json::object();
 };
 
@@ -55,5 +57,6 @@ void bench_ffd(Context& ctx);
 void bench_remesh(Context& ctx);
 void bench_bcm(Context& ctx);
 void bench_cholesky(Context& ctx);
+void bench_io(Context& ctx);
 
 }  // namespace ffd::bench

@@ -1,4 +1,5 @@
-// ffdbench [--suite NAME|all] [--quick] [--meshes DIR] [--test-data DIR] [-o FILE]
+// ffdbench [--suite NAME|all] [--quick] [--meshes DIR] [--test-data DIR] [--ffdtool PATH]
+//          [--blender PATH] [-o FILE]
 // Runs benchmark suites and prints one JSON object: suite -> rows with throughput,
 // times and ratios against a baseline measured in the same run.
 #include <cstdio>
@@ -7,11 +8,14 @@
 #include <omp.h>
 
 #include "bench.h"
+#include "child_run.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "script/runner.h"
 
 int main(int argc, char** argv) {
+  // Launcher mode (child_run.h): first, while this process is still small.
+  if (argc > 1 && std::strcmp(argv[1], "--launch") == 0) return ffd::bench::launch_main(argc, argv);
   ffd::bench::Context ctx;
   ctx.meshes = "../shared/meshes";
   ctx.test_data = "test_data";
@@ -29,9 +33,15 @@ int main(int argc, char** argv) {
     else if (a == "--quick") ctx.quick = true;
     else if (a == "--meshes") ctx.meshes = value();
     else if (a == "--test-data") ctx.test_data = value();
+    else if (a == "--ffdtool") ctx.ffdtool = value();
+    else if (a == "--blender") ctx.blender = value();
     else if (a == "-o") output = value();
     else if (a == "--help" || a == "-h") {
-      std::printf("usage: ffdbench [--suite NAME|all] [--quick] [--meshes DIR] [--test-data DIR] [-o FILE]\nsuites:\n");
+      std::printf("usage: ffdbench [--suite NAME|all] [--quick] [--meshes DIR] [--test-data DIR]\n"
+                  "                [--ffdtool PATH] [--blender PATH] [-o FILE]\n"
+                  "  --ffdtool PATH  ffdtool for the io suite (default: ../ffdtool/ffdtool beside ffdbench)\n"
+                  "  --blender PATH  Blender for the io suite's side-by-side rows (default: blender on PATH)\n"
+                  "suites:\n");
       for (const auto& s : ffd::bench::suites()) std::printf("  %-8s %s\n", s.name, s.what);
       return 0;
     } else {
@@ -53,6 +63,9 @@ int main(int argc, char** argv) {
   } catch (const ffd::InputError& e) {
     std::fprintf(stderr, "ffdbench: error: %s\n", e.what());
     return 2;
+  } catch (const ffd::Error& e) {  // IoError and the like: a failure while running
+    std::fprintf(stderr, "ffdbench: error: %s\n", e.what());
+    return 3;
   }
   if (!ran) {
     std::fprintf(stderr, "ffdbench: error: no suite named '%s'\n", suite.c_str());

@@ -9,6 +9,7 @@ const std::vector<Suite>& suites() {
       {"bcm", "boundary-constraint modeling setup and per-frame cost against CGAL's fair", bench_bcm},
       {"cholesky", "the bcm k = 3 numeric factorization: lib/bcm's supernodal Cholesky against CHOLMOD's with the system BLAS",
        bench_cholesky},
+      {"io", "mesh file reading and writing per format, the end-to-end run against Blender", bench_io},
   };
   return all;
 }
