@@ -527,6 +527,110 @@ TEST(MeshIoAgreement, CgalReadsOurStlAsTriangleFansWithMergedCorners) {
   EXPECT_TRUE(back.is_triangle_mesh());
 }
 
+WriteOptions binary_output() {
+  WriteOptions options;
+  options.encoding = WriteOptions::Encoding::Binary;
+  return options;
+}
+
+TEST(MeshIoAgreement, CgalReadsOurBinaryPlyExactly) {
+  const Mesh mesh = random_polygon_mesh(10, 22);
+  const std::string path = test::temp_folder("cgal_binary_ply") + "/ours.ply";
+  write_mesh(path, mesh, binary_output());
+  ASSERT_NE(test::read_file(path).find("format binary_little_endian 1.0\n"), std::string::npos);
+  std::ifstream is(path, std::ios::binary);
+  std::vector<CgalPoint> points;
+  std::vector<std::vector<std::size_t>> polygons;
+  ASSERT_TRUE(CGAL::IO::read_PLY(is, points, polygons));
+  ASSERT_EQ(points.size(), mesh.num_vertices());
+  for (std::size_t v = 0; v < points.size(); ++v)
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(points[v][k], mesh.positions()(k, static_cast<Eigen::Index>(v))) << "vertex " << v;
+  const auto faces = mesh.faces();
+  ASSERT_EQ(polygons.size(), faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    ASSERT_EQ(std::vector<std::size_t>(faces[f].begin(), faces[f].end()), polygons[f]) << "face " << f;
+  const Mesh back = read_mesh(path);
+  EXPECT_TRUE(back.source_binary());
+  EXPECT_EQ(back.faces(), faces);
+  EXPECT_TRUE(Eigen::Matrix3Xd(back.positions()) == Eigen::Matrix3Xd(mesh.positions()));
+}
+
+TEST(MeshIoAgreement, CgalReadsOurBinaryStlAsFloat32Fans) {
+  const Mesh mesh = random_polygon_mesh(8, 32);
+  const std::string path = test::temp_folder("cgal_binary_stl") + "/ours.stl";
+  write_mesh(path, mesh, binary_output());
+  std::size_t fans = 0;
+  std::vector<std::uint32_t> face;
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    mesh.face_vertices(f, face);
+    fans += face.size() - 2;
+  }
+  EXPECT_EQ(std::filesystem::file_size(path), 84 + 50 * fans);  // header, count, 50 bytes a triangle
+  std::ifstream is(path, std::ios::binary);
+  std::vector<CgalPoint> points;
+  std::vector<std::array<std::size_t, 3>> triangles;
+  ASSERT_TRUE(CGAL::IO::read_STL(is, points, triangles));
+  ASSERT_EQ(triangles.size(), fans);
+  std::vector<std::uint32_t> ids;
+  std::size_t t = 0;
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    mesh.face_vertices(f, ids);
+    for (std::size_t i = 1; i + 1 < ids.size(); ++i, ++t)
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::Vector3d expected = mesh.positions().col(ids[c == 0 ? 0 : i + c - 1]).cast<float>().cast<double>();
+        const CgalPoint& p = points[triangles[t][c]];
+        ASSERT_TRUE(Eigen::Vector3d(p.x(), p.y(), p.z()) == expected) << "triangle " << t << " corner " << c;
+      }
+  }
+  EXPECT_TRUE(read_mesh(path).source_binary());
+}
+
+// PLY and STL outputs keep the input's encoding unless told; OBJ and OFF inputs give text.
+TEST(MeshIo, PlyAndStlOutputsKeepTheInputsEncoding) {
+  const std::string dir = test::temp_folder("encoding");
+  const Mesh mesh = random_polygon_mesh(6, 41);
+  write_mesh(dir + "/binary.stl", mesh, binary_output());
+  write_mesh(dir + "/binary.ply", mesh, binary_output());
+  write_mesh(dir + "/text.ply", mesh);
+  const auto binary = [](const std::string& path) {
+    const std::string bytes = test::read_file(path);
+    return bytes.rfind("solid", 0) != 0 && bytes.find("format ascii") == std::string::npos;
+  };
+  for (const char* in : {"binary.stl", "binary.ply", "text.ply"})
+    for (const char* ext : {".ply", ".stl"}) {
+      const std::string out = dir + "/out-" + in + ext;
+      write_mesh(out, read_mesh(dir + "/" + in));
+      EXPECT_EQ(binary(out), std::string(in).rfind("binary", 0) == 0) << in << " -> " << ext;
+    }
+  WriteOptions ascii;
+  ascii.encoding = WriteOptions::Encoding::Ascii;
+  write_mesh(dir + "/asked.stl", read_mesh(dir + "/binary.stl"), ascii);
+  EXPECT_FALSE(binary(dir + "/asked.stl"));
+}
+
+// A polygon of more than 255 corners does not fit PLY's uchar list count: an int count then.
+TEST(PlyIo, PolygonsOfMoreThan255CornersRoundTrip) {
+  PolygonSoup soup;
+  std::vector<std::uint32_t> ring;
+  for (int i = 0; i < 300; ++i) {
+    const double a = 2 * M_PI * i / 300;
+    soup.positions.emplace_back(std::cos(a), std::sin(a), 0.1 * std::sin(5 * a));
+    ring.push_back(static_cast<std::uint32_t>(i));
+  }
+  soup.elements.add_polygon(ring);
+  const Mesh mesh = build_mesh(soup, "ring");
+  const std::string dir = test::temp_folder("ring");
+  for (bool b : {false, true}) {
+    const std::string path = dir + (b ? "/binary.ply" : "/text.ply");
+    write_mesh(path, mesh, b ? binary_output() : WriteOptions{});
+    EXPECT_NE(test::read_file(path).find("property list int int vertex_indices"), std::string::npos);
+    const Mesh back = read_mesh(path);
+    EXPECT_EQ(back.faces(), mesh.faces());
+    EXPECT_TRUE(Eigen::Matrix3Xd(back.positions()) == Eigen::Matrix3Xd(mesh.positions()));
+  }
+}
+
 // ---------------------------------------------------------------------------------------
 // Bad input: InputError naming the file and the line
 

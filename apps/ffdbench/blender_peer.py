@@ -167,9 +167,11 @@ def add_lattice(centre, size, cells):
     B-spline whose control points sit at those n grid positions, touching 4 points
     per axis (64 per vertex) and repeating the edge points past the ends. We use
     n = CELLS + 3 points, the control-point count of ffdtool's cubic B-spline lattice
-    with CELLS cells, so both move the same indexed point of a same-sized grid and
-    do the same amount of work per vertex; the knot spacing differs slightly
-    (Blender spreads the points edge to edge, box / (CELLS + 2) apart).
+    with CELLS cells, so both do the same amount of work per vertex. Blender numbers
+    the points from 0 and ffdtool's cubic lattice from -1, so ffdtool's point i is
+    Blender's i + 1 (the caller passes Blender's index). The results still differ:
+    Blender spreads the points edge to edge, box / (CELLS + 2) apart, where ffdtool's
+    nodes are box / CELLS apart with the outer layers outside the box.
     """
     lat = bpy.data.lattices.new("ffd_lattice")
     # The object must exist before the resize: resizing a lattice that no object uses

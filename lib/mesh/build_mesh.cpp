@@ -31,6 +31,7 @@ Mesh build_mesh(PolygonSoup soup, const std::string& file) {
   check_elements(soup, file);
   Mesh mesh;
   mesh.set_source(file);
+  mesh.set_source_binary(soup.binary);
   const std::size_t n = soup.positions.size();
   Eigen::Matrix3Xd positions(3, static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i) positions.col(static_cast<Eigen::Index>(i)) = soup.positions[i];

@@ -163,6 +163,10 @@ public:
   /// The file the mesh was read from (for messages naming elements), or empty.
   const std::string& source() const { return source_; }
   void set_source(std::string file) { source_ = std::move(file); }
+  /// Whether the source file was binary (PLY or STL): PLY and STL outputs are written in
+  /// the input's encoding (mesh_io.h, WriteOptions::encoding).
+  bool source_binary() const { return source_binary_; }
+  void set_source_binary(bool binary) { source_binary_ = binary; }
 
   /// Refinement levels (mesh_attribute): per vertex (empty: all 0), and the edges whose
   /// level is not 0, sorted by (a, b).
@@ -210,6 +214,7 @@ private:
   std::vector<ObjState> groups_;
   std::vector<std::string> header_;
   std::string source_;
+  bool source_binary_ = false;
   std::vector<RefinementLevel> vertex_levels_;
   std::vector<EdgeLevel> edge_levels_;
   std::uint64_t topology_version_ = 0;

@@ -147,6 +147,8 @@ void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh, const Wri
   const Eigen::Matrix3Xd* vertex_normals = normals.size() ? &normals : nullptr;
   const std::vector<Eigen::Vector3f> own = options.colors.empty() ? color_array(mesh) : std::vector<Eigen::Vector3f>();
   const VertexColors colors = !options.colors.empty() ? &options.colors : own.empty() ? nullptr : &own;
+  const bool binary = options.encoding == WriteOptions::Encoding::Binary ||
+                      (options.encoding == WriteOptions::Encoding::Auto && mesh.source_binary());
   switch (format) {
     case MeshFormat::Obj:
       write_obj(os, mesh, options.transform_normal, colors);
@@ -155,10 +157,10 @@ void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh, const Wri
       write_off(os, mesh, vertex_normals, colors);
       break;
     case MeshFormat::Ply:
-      write_ply(os, mesh, vertex_normals, colors);
+      write_ply(os, mesh, vertex_normals, colors, binary);
       break;
     case MeshFormat::Stl:
-      write_stl(os, mesh);
+      write_stl(os, mesh, binary);
       break;
   }
 }

@@ -28,6 +28,9 @@ struct WriteOptions {
   NormalTransform transform_normal;
   /// One colour per vertex to write instead of the mesh's own (empty: the mesh's, if any).
   std::vector<Eigen::Vector3f> colors;
+  /// PLY and STL: Auto writes binary when the mesh was read from a binary PLY or STL,
+  /// ASCII otherwise (OBJ and OFF are text only). Binary STL stores float32.
+  enum class Encoding { Auto, Ascii, Binary } encoding = Encoding::Auto;
 };
 
 /// Checks that `format` can hold every element of `mesh`: OFF, PLY and STL hold faces

@@ -459,6 +459,7 @@ PolygonSoup read_ply(std::string_view bytes, const std::string& file) {
   if (!vertex || vertex->count == 0) throw InputError(file + ": the file has no vertex");
   const VertexLayout layout = vertex_layout(*vertex, file);
   PolygonSoup soup;
+  soup.binary = h.format != Format::Ascii;
   Cursor cur(bytes, h, file);
   for (const Element& e : h.elements) {
     const std::size_t min = e.min_bytes(h.format);

@@ -4,58 +4,137 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
+#include "common/errors.h"
 #include "common/numbers.h"
 #include "mesh/text_sink.h"
 
 namespace ffd {
 
-void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors) {
-  TextSink out(os);
-  out.put("ply\nformat ascii 1.0\ncomment written by ffdtool\nelement vertex ");
+namespace {
+
+// The most corners of any polygon: PLY's usual face list count is a uchar (up to 255).
+std::uint32_t max_degree(const MeshElements& el) {
+  std::uint32_t most = 0;
+  for (std::size_t f = 0; f < el.size(); ++f)
+    if (el.kinds[f] == ElementKind::Polygon) most = std::max(most, el.degree(f));
+  return most;
+}
+
+void put_ply_header(TextSink& out, const Mesh& mesh, bool normals, bool colors, bool binary, bool wide) {
+  out.put(binary ? "ply\nformat binary_little_endian 1.0\n" : "ply\nformat ascii 1.0\n");
+  out.put("comment written by ffdtool\nelement vertex ");
   out.integer(mesh.num_vertices());
   out.put("\nproperty double x\nproperty double y\nproperty double z\n");
   if (normals) out.put("property double nx\nproperty double ny\nproperty double nz\n");
   if (colors) out.put("property uchar red\nproperty uchar green\nproperty uchar blue\n");
   out.put("element face ");
   out.integer(mesh.num_faces());
-  out.put("\nproperty list uchar int vertex_indices\nend_header\n");
+  out.put(wide ? "\nproperty list int int vertex_indices\nend_header\n"
+               : "\nproperty list uchar int vertex_indices\nend_header\n");
+}
+
+std::uint8_t color_byte(float c) { return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f)); }
+
+// One vertex's values: x y z, then the normal and the colour when given.
+void put_ply_vertex(TextSink& out, const Mesh& mesh, Eigen::Index i, const Eigen::Matrix3Xd* normals,
+                    VertexColors colors, bool binary) {
   const ConstVec3Array p = mesh.positions();
-  for (Eigen::Index i = 0; i < p.cols(); ++i) {
+  double values[6];
+  int count = 0;
+  for (int k = 0; k < 3; ++k) values[count++] = p(k, i);
+  if (normals)
+    for (int k = 0; k < 3; ++k) values[count++] = (*normals)(k, i);
+  for (int k = 0; k < count; ++k) {
+    if (binary) {
+      out.raw(values[k]);
+      continue;
+    }
+    if (k) out.put(' ');
+    out.number(values[k]);
+  }
+  if (colors)
     for (int k = 0; k < 3; ++k) {
-      if (k) out.put(' ');
-      out.number(p(k, i));
-    }
-    if (normals)
-      for (int k = 0; k < 3; ++k) {
-        out.put(' ');
-        out.number((*normals)(k, i));
+      const std::uint8_t c = color_byte((*colors)[static_cast<std::size_t>(i)][k]);
+      if (binary) {
+        out.raw(c);
+        continue;
       }
-    if (colors) {
-      const Eigen::Vector3f& c = (*colors)[static_cast<std::size_t>(i)];
-      for (int k = 0; k < 3; ++k) {
-        out.put(' ');
-        out.integer(static_cast<std::int64_t>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f)));
-      }
-    }
-    out.put('\n');
-  }
-  const MeshElements& el = mesh.elements();
-  for (std::size_t f = 0; f < el.size(); ++f) {
-    if (el.kinds[f] != ElementKind::Polygon) continue;  // refused before writing (check_writable)
-    out.integer(el.degree(f));
-    for (std::uint32_t c = el.begin(f); c < el.end(f); ++c) {
       out.put(' ');
-      out.integer(el.corners[c]);
+      out.integer(std::uint32_t{c});
     }
-    out.put('\n');
+  if (!binary) out.put('\n');
+}
+
+// Polygon f's corner count and vertex indices.
+void put_ply_face(TextSink& out, const MeshElements& el, std::size_t f, bool binary, bool wide) {
+  if (binary) {
+    if (wide) out.raw(static_cast<std::int32_t>(el.degree(f)));
+    else out.raw(static_cast<std::uint8_t>(el.degree(f)));
+    for (std::uint32_t c = el.begin(f); c < el.end(f); ++c) out.raw(static_cast<std::int32_t>(el.corners[c]));
+    return;
   }
+  out.integer(el.degree(f));
+  for (std::uint32_t c = el.begin(f); c < el.end(f); ++c) {
+    out.put(' ');
+    out.integer(el.corners[c]);
+  }
+  out.put('\n');
+}
+
+}  // namespace
+
+void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors,
+               bool binary) {
+  TextSink out(os);
+  const MeshElements& el = mesh.elements();
+  const bool wide = max_degree(el) > 255;
+  put_ply_header(out, mesh, normals != nullptr, colors != nullptr, binary, wide);
+  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(mesh.num_vertices()); ++i)
+    put_ply_vertex(out, mesh, i, normals, colors, binary);
+  for (std::size_t f = 0; f < el.size(); ++f)
+    if (el.kinds[f] == ElementKind::Polygon) put_ply_face(out, el, f, binary, wide);  // others: check_writable
   out.flush();
 }
 
-void write_stl(std::ostream& os, const Mesh& mesh) {
+namespace {
+
+// Binary STL: an 80-byte header (not starting with "solid", which would read as ASCII),
+// the triangle count, then per triangle the unit normal and three corners as little-endian
+// float32, and a zero attribute word.
+void write_binary_stl(TextSink& out, const Mesh& mesh) {
   const ConstVec3Array p = mesh.positions();
-  TextSink out(os);
+  const MeshElements& el = mesh.elements();
+  char header[80] = {};
+  std::memcpy(header, "binary STL written by ffdtool", 29);
+  out.put(std::string_view(header, sizeof header));
+  std::uint64_t triangles = 0;
+  for (std::size_t f = 0; f < el.size(); ++f)
+    if (el.kinds[f] == ElementKind::Polygon && el.degree(f) >= 3) triangles += el.degree(f) - 2;
+  if (triangles > 0xffffffffu) throw InputError(At{mesh.source()}, "more than 2^32 - 1 triangles do not fit a binary STL");
+  out.raw(static_cast<std::uint32_t>(triangles));
+  const auto put_vec = [&out](const Eigen::Vector3d& v) {
+    for (int k = 0; k < 3; ++k) out.raw(static_cast<float>(v[k]));
+  };
+  for (std::size_t f = 0; f < el.size(); ++f) {
+    if (el.kinds[f] != ElementKind::Polygon) continue;
+    const std::uint32_t* ids = el.vertices(f);
+    for (std::size_t i = 1; i + 1 < el.degree(f); ++i) {
+      const Eigen::Vector3d a = p.col(ids[0]), b = p.col(ids[i]), c = p.col(ids[i + 1]);
+      Eigen::Vector3d n = (b - a).cross(c - a);
+      if (n.norm() > 0) n.normalize();
+      put_vec(n);
+      put_vec(a);
+      put_vec(b);
+      put_vec(c);
+      out.raw(std::uint16_t{0});
+    }
+  }
+}
+
+void write_ascii_stl(TextSink& out, const Mesh& mesh) {
+  const ConstVec3Array p = mesh.positions();
   out.put("solid ffdtool\n");
   const auto put_vec = [&out](const Eigen::Vector3d& v) {
     for (int k = 0; k < 3; ++k) {
@@ -83,6 +162,14 @@ void write_stl(std::ostream& os, const Mesh& mesh) {
     }
   }
   out.put("endsolid ffdtool\n");
+}
+
+}  // namespace
+
+void write_stl(std::ostream& os, const Mesh& mesh, bool binary) {
+  TextSink out(os);
+  if (binary) write_binary_stl(out, mesh);
+  else write_ascii_stl(out, mesh);
   out.flush();
 }
 

@@ -10,11 +10,15 @@
 
 namespace ffd {
 
-/// Writes ASCII PLY with double coordinates (round-trip exact), optional per-vertex
-/// normals (3 × n) and `colors` (uchar red green blue).
-void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors);
+/// Writes PLY, ASCII or binary little-endian, with double coordinates (round-trip exact
+/// either way), optional per-vertex normals (3 × n) and `colors` (uchar red green blue).
+/// Face lists count with a uchar, or an int where a polygon has more than 255 corners.
+void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors,
+               bool binary = false);
 
-/// Writes ASCII STL; polygons are split into triangle fans (STL holds only triangles).
-void write_stl(std::ostream& os, const Mesh& mesh);
+/// Writes STL, ASCII (shortest round-trip numbers) or binary (float32, as binary STL
+/// holds them); polygons are split into triangle fans (STL holds only triangles).
+/// 	hrow InputError if a binary STL cannot count the triangles (2^32 or more).
+void write_stl(std::ostream& os, const Mesh& mesh, bool binary = false);
 
 }  // namespace ffd

@@ -19,6 +19,7 @@ struct PolygonSoup {
   MeshElements elements;                    // faces, lines, points in file order
   std::vector<ObjState> groups;             // OBJ o/g/usemtl/s state, one per distinct state
   std::vector<std::string> header;          // OBJ mtllib lines, written back verbatim
+  bool binary = false;                      // read from a binary PLY or STL
 };
 
 }  // namespace ffd

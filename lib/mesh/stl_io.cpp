@@ -64,6 +64,7 @@ float little_float(const char* p) {
 PolygonSoup read_binary(std::string_view bytes, const std::string& file) {
   const std::uint32_t count = little_uint32(bytes.data() + 80);
   PolygonSoup soup;
+  soup.binary = true;
   VertexMerger merger(soup);
   merger.reserve(std::size_t(count) * 3);
   soup.elements.reserve(count, 3);

@@ -1,4 +1,4 @@
-// Buffered text output for the mesh writers. Numbers and indices are formatted straight
+// Buffered output for the mesh writers (text, and the binary PLY and STL bytes). Numbers and indices are formatted straight
 // into one fixed buffer (std::to_chars) that goes to the stream in 1 MB blocks, so a
 // writer's memory stays bounded whatever the mesh size and no string is built per token.
 #pragma once
@@ -33,6 +33,14 @@ public:
     room(text.size());
     std::memcpy(end_, text.data(), text.size());
     end_ += text.size();
+  }
+  /// The bytes of a trivially copyable value as the machine holds it (little-endian on
+  /// x86-64), for the binary writers.
+  template <class T>
+  void raw(const T& value) {
+    room(sizeof value);
+    std::memcpy(end_, &value, sizeof value);
+    end_ += sizeof value;
   }
   /// The shortest round-trip text of x (append_number's).
   void number(double x) {
