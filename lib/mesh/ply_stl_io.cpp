@@ -100,11 +100,28 @@ void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* norma
 
 namespace {
 
+// Calls fn(corners, unit normal) for each triangle of the polygons' fans (STL holds only
+// triangles), in element order; a degenerate triangle's normal is zero.
+template <class Fn>
+void for_each_fan(const Mesh& mesh, Fn fn) {
+  const ConstVec3Array p = mesh.positions();
+  const MeshElements& el = mesh.elements();
+  for (std::size_t f = 0; f < el.size(); ++f) {
+    if (el.kinds[f] != ElementKind::Polygon) continue;
+    const std::uint32_t* ids = el.vertices(f);
+    for (std::size_t i = 1; i + 1 < el.degree(f); ++i) {
+      const Eigen::Vector3d corners[3] = {p.col(ids[0]), p.col(ids[i]), p.col(ids[i + 1])};
+      Eigen::Vector3d n = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+      if (n.norm() > 0) n.normalize();
+      fn(corners, n);
+    }
+  }
+}
+
 // Binary STL: an 80-byte header (not starting with "solid", which would read as ASCII),
 // the triangle count, then per triangle the unit normal and three corners as little-endian
 // float32, and a zero attribute word.
 void write_binary_stl(TextSink& out, const Mesh& mesh) {
-  const ConstVec3Array p = mesh.positions();
   const MeshElements& el = mesh.elements();
   char header[80] = {};
   std::memcpy(header, "binary STL written by ffdtool", 29);
@@ -112,29 +129,17 @@ void write_binary_stl(TextSink& out, const Mesh& mesh) {
   std::uint64_t triangles = 0;
   for (std::size_t f = 0; f < el.size(); ++f)
     if (el.kinds[f] == ElementKind::Polygon && el.degree(f) >= 3) triangles += el.degree(f) - 2;
-  if (triangles > 0xffffffffu) throw InputError(At{mesh.source()}, "more than 2^32 - 1 triangles do not fit a binary STL");
+  if (triangles > 0xffffffffu) throw InputError("a binary STL holds at most 2^32 - 1 triangles");
   out.raw(static_cast<std::uint32_t>(triangles));
-  const auto put_vec = [&out](const Eigen::Vector3d& v) {
-    for (int k = 0; k < 3; ++k) out.raw(static_cast<float>(v[k]));
-  };
-  for (std::size_t f = 0; f < el.size(); ++f) {
-    if (el.kinds[f] != ElementKind::Polygon) continue;
-    const std::uint32_t* ids = el.vertices(f);
-    for (std::size_t i = 1; i + 1 < el.degree(f); ++i) {
-      const Eigen::Vector3d a = p.col(ids[0]), b = p.col(ids[i]), c = p.col(ids[i + 1]);
-      Eigen::Vector3d n = (b - a).cross(c - a);
-      if (n.norm() > 0) n.normalize();
-      put_vec(n);
-      put_vec(a);
-      put_vec(b);
-      put_vec(c);
-      out.raw(std::uint16_t{0});
-    }
-  }
+  for_each_fan(mesh, [&out](const Eigen::Vector3d* corners, const Eigen::Vector3d& n) {
+    for (int k = 0; k < 3; ++k) out.raw(static_cast<float>(n[k]));
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) out.raw(static_cast<float>(corners[c][k]));
+    out.raw(std::uint16_t{0});
+  });
 }
 
 void write_ascii_stl(TextSink& out, const Mesh& mesh) {
-  const ConstVec3Array p = mesh.positions();
   out.put("solid ffdtool\n");
   const auto put_vec = [&out](const Eigen::Vector3d& v) {
     for (int k = 0; k < 3; ++k) {
@@ -142,25 +147,17 @@ void write_ascii_stl(TextSink& out, const Mesh& mesh) {
       out.number(v[k]);
     }
   };
-  const MeshElements& el = mesh.elements();
-  for (std::size_t f = 0; f < el.size(); ++f) {
-    if (el.kinds[f] != ElementKind::Polygon) continue;
-    const std::uint32_t* ids = el.vertices(f);
-    for (std::size_t i = 1; i + 1 < el.degree(f); ++i) {
-      const Eigen::Vector3d a = p.col(ids[0]), b = p.col(ids[i]), c = p.col(ids[i + 1]);
-      Eigen::Vector3d n = (b - a).cross(c - a);
-      if (n.norm() > 0) n.normalize();
-      out.put("facet normal");
-      put_vec(n);
-      out.put("\n outer loop\n  vertex");
-      put_vec(a);
-      out.put("\n  vertex");
-      put_vec(b);
-      out.put("\n  vertex");
-      put_vec(c);
-      out.put("\n endloop\nendfacet\n");
-    }
-  }
+  for_each_fan(mesh, [&](const Eigen::Vector3d* corners, const Eigen::Vector3d& n) {
+    out.put("facet normal");
+    put_vec(n);
+    out.put("\n outer loop\n  vertex");
+    put_vec(corners[0]);
+    out.put("\n  vertex");
+    put_vec(corners[1]);
+    out.put("\n  vertex");
+    put_vec(corners[2]);
+    out.put("\n endloop\nendfacet\n");
+  });
   out.put("endsolid ffdtool\n");
 }
 
