@@ -393,15 +393,17 @@ Level Remesher::split_level(HalfedgeIndex h) const {
 }
 
 HalfedgeIndex Remesher::longer_face_edge(HalfedgeIndex h, double len) const {
+  // Longer as the heap orders: a strictly greater key, so that the edge returned is
+  // popped before h comes back (lengths that tie in the heap stay with h).
   HalfedgeIndex longest = h;
-  double longest_len = len * (1 + 1e-12);  // ties stay with h
+  double longest_key = HeapEntry::coarse(len);
   for (HalfedgeIndex g : {h, sm_.opposite(h)}) {
     if (sm_.is_border(g)) continue;
     for (HalfedgeIndex k : {sm_.next(g), sm_.prev(g)}) {
-      const double kl = length(k);
-      if (kl > longest_len) {
+      const double key = HeapEntry::coarse(length(k));
+      if (key > longest_key) {
         longest = k;
-        longest_len = kl;
+        longest_key = key;
       }
     }
   }
