@@ -18,8 +18,9 @@ constexpr std::size_t kTriangleBytes = 50;
 
 // Gives each distinct corner point (== on all three coordinates) one vertex, first seen
 // first: an open-addressing table of vertex numbers over the soup's positions (linear
-// probing, a power-of-two size kept at most half full). std::unordered_map's node per
-// point took 3× the time and memory on a 1M-vertex binary STL.
+// probing, a power-of-two size kept at most half full). With std::unordered_map's node
+// per point, reading a 1M-vertex binary STL took 480 ms instead of 360, and its run
+// peaked at 276 MB instead of 180.
 class VertexMerger {
 public:
   explicit VertexMerger(PolygonSoup& soup) : soup_(soup) { resize(1024); }
