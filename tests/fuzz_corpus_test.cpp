@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "common/errors.h"
-#include "fuzz/obj_paths.h"
+#include "fuzz/reader_paths.h"
 #include "fuzz/run_input.h"
 #include "mesh/build_mesh.h"
 #include "mesh/obj_io.h"
@@ -52,7 +52,7 @@ Reader mesh_reader(PolygonSoup (*read)(std::string_view, const std::string&)) {
 TEST(FuzzCorpus, EveryInputIsReadOrRefusedWithAnInputError) {
   const std::map<std::string, Reader> targets = {
       {"obj", [](const std::string& bytes) { fuzz::check_obj_paths_agree(bytes), mesh_reader(read_obj)(bytes); }},
-      {"off", mesh_reader(read_off)},
+      {"off", [](const std::string& bytes) { fuzz::check_off_paths_agree(bytes), mesh_reader(read_off)(bytes); }},
       {"ply", mesh_reader(read_ply)}, {"stl", mesh_reader(read_stl)},
       {"script", [](const std::string& text) { parse_script(text, "fuzz.json"); }}};
   std::size_t inputs = 0;

@@ -24,7 +24,7 @@
 
 #include "common/errors.h"
 #include "common/numbers.h"
-#include "fuzz/obj_paths.h"
+#include "fuzz/reader_paths.h"
 #include "mesh/build_mesh.h"
 #include "mesh/halfedge_view.h"
 #include "mesh/mesh_io.h"
@@ -264,6 +264,39 @@ TEST(ObjIo, FastPathReadsWhatTheGeneralPathReads) {
   }
   EXPECT_GT(read, 10u);
   EXPECT_GT(refused, 10u);
+}
+
+// read_off parses plain vertex and face lines in place and hands anything else to the
+// general reader: both must read the same soup, or fail with the same message.
+TEST(OffIo, FastPathReadsWhatTheGeneralPathReads) {
+  std::vector<std::string> texts = {write_to_string(test::bunny(), MeshFormat::Off)};
+  for (const char* vertex : {"1 0 0", "1 0 0 # c", "1 0 0#c", "+1 0 0", "1 0", "1 0 0 0", "1e400 0 0", "nan 0 0",
+                             "\t1\t0\t0\t", "", "# only a comment", "1. .5 -.5e-3", "1 0 0\r"})
+    for (const char* face : {"3 0 1 2", "3 0 1 3", "3 0 1 -1", "3 0 1", "3 0 1 2 4", "3 0 1 2 255 0 0",
+                             "3 0 1 2 0.5 0.5 0.5 1", "3 0 1 2 5 6", "3 0 1 2 x", "+3 0 1 2", "2 0 1", "4 0 1 2 3", "3 0 1 2 # c", "",
+                             "99999999999999999999 0 1 2", "3 0 1 02"}) {
+      for (const char* keyword : {"OFF", "COFF", "NOFF", "STOFF"}) {
+        const std::string k = keyword;
+        const std::string extra = k == "COFF" ? " 1 0 0" : k == "NOFF" ? " 0 0 1" : k == "STOFF" ? " 0 0" : "";
+        std::string text = k + "\n4 2 0\n0 0 0" + extra + "\n0 1 0" + extra + "\n";
+        text += std::string(vertex) + (std::string(vertex).empty() || vertex[0] == '#' ? "" : extra) + "\n0 0 1" + extra + "\n";
+        text += std::string(face) + "\n3 1 2 3\n";
+        texts.push_back(text);
+      }
+    }
+  std::size_t read = 0, refused = 0;
+  for (const std::string& text : texts) {
+    try {
+      fuzz::check_off_paths_agree(text);
+      ++read;
+    } catch (const InputError&) {
+      ++refused;
+    } catch (const std::logic_error& e) {
+      ADD_FAILURE() << e.what() << " on:\n" << text.substr(0, 400);
+    }
+  }
+  EXPECT_GT(read, 50u);
+  EXPECT_GT(refused, 50u);
 }
 
 TEST(ObjIo, RoundTripIsExactAndStable) {

@@ -133,21 +133,6 @@ void set_state(std::string_view line, std::string_view key, ObjState& state, boo
 // at anything it does not take in full (a comment, a '+' sign, colours, a bad index);
 // the general path then reads that line and gives its error, so both paths accept the
 // same text and build the same soup (tests and the obj fuzz target check this).
-bool blank(char c) { return c == ' ' || c == '\t'; }
-
-const char* skip_blanks(const char* p, const char* end) {
-  while (p < end && blank(*p)) ++p;
-  return p;
-}
-
-// A finite number at p that ends at a blank or the line's end; false otherwise.
-bool fast_number(const char*& p, const char* end, double& value) {
-  const auto [next, ec] = std::from_chars(p, end, value, std::chars_format::general);
-  if (ec != std::errc() || next == p || (next < end && !blank(*next)) || !std::isfinite(value)) return false;
-  p = next;
-  return true;
-}
-
 // A non-zero index at p resolved against `count` (as resolve_index does), ending at a
 // blank, '/', or the line's end when `slash` is set (else at a blank or the end).
 bool fast_index(const char*& p, const char* end, std::size_t count, bool slash, std::int64_t& index) {

@@ -139,6 +139,45 @@ void read_face(const std::vector<std::string_view>& t, const OffHeader& header, 
   soup.elements.close(ElementKind::Polygon, -1, static_cast<std::uint32_t>(std::min<std::size_t>(n, 0xffffffffu)));
 }
 
+// The fast path for the lines of a plain mesh: a vertex `x y z` (no normal, colour or
+// texture coordinates in the header) and a face `k i1 .. ik` without a colour, parsed in
+// place. False, having changed nothing, for anything else: the general path then reads
+// the line (blank and comment lines included) and gives its error, so both paths read
+// the same soup (tests/mesh_io_test.cpp checks this).
+bool read_vertex_fast(std::string_view line, PolygonSoup& soup) {
+  const char* p = line.data();
+  const char* end = p + line.size();
+  Eigen::Vector3d v;
+  for (int k = 0; k < 3; ++k) {
+    p = skip_blanks(p, end);
+    if (!fast_number(p, end, v[k])) return false;
+  }
+  if (skip_blanks(p, end) != end) return false;
+  soup.positions.push_back(v);
+  return true;
+}
+
+bool read_face_fast(std::string_view line, const OffHeader& header, long long nv, std::size_t n,
+                    PolygonSoup& soup, std::vector<std::uint32_t>& corners) {
+  const char* p = skip_blanks(line.data(), line.data() + line.size());
+  const char* end = line.data() + line.size();
+  long long k = 0;
+  if (!fast_integer(p, end, k) || k < 3 || k > static_cast<long long>(line.size())) return false;
+  corners.clear();
+  for (long long i = 0; i < k; ++i) {
+    long long idx = 0;
+    p = skip_blanks(p, end);
+    if (!fast_integer(p, end, idx) || idx < 0 || idx >= nv) return false;
+    corners.push_back(static_cast<std::uint32_t>(idx));
+  }
+  if (skip_blanks(p, end) != end) return false;
+  for (std::uint32_t v : corners)
+    soup.elements.add_corner(v, header.st ? static_cast<std::int32_t>(v) : -1,
+                             header.normal ? static_cast<std::int32_t>(v) : -1);
+  soup.elements.close(ElementKind::Polygon, -1, static_cast<std::uint32_t>(std::min<std::size_t>(n, 0xffffffffu)));
+  return true;
+}
+
 // The next non-blank line's tokens into t; false at the end of the text.
 bool next_tokens(LineScanner& lines, std::vector<std::string_view>& t) {
   std::string_view line;
@@ -158,7 +197,9 @@ InputError ends_early(const std::string& file, std::size_t counts_line, std::siz
 
 }  // namespace
 
-PolygonSoup read_off(std::string_view text, const std::string& file) {
+namespace {
+
+PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool fast) {
   PolygonSoup soup;
   LineScanner lines(text);
   std::vector<std::string_view> t;
@@ -175,17 +216,32 @@ PolygonSoup read_off(std::string_view text, const std::string& file) {
 
   soup.positions.reserve(nv);
   if (header.normal) soup.normals.reserve(nv);
+  const bool plain = fast && !header.normal && !header.color && !header.st;
+  std::string_view line;
   while (static_cast<long long>(soup.positions.size()) < nv) {
-    if (!next_tokens(lines, t)) throw ends_early(file, counts_line, soup.positions.size(), nv, "vertices");
-    read_vertex(t, header, file, lines.number(), soup);
+    if (!lines.next(line)) throw ends_early(file, counts_line, soup.positions.size(), nv, "vertices");
+    if (plain && read_vertex_fast(line, soup)) continue;
+    split_tokens(line, t);
+    if (!t.empty()) read_vertex(t, header, file, lines.number(), soup);
   }
   soup.elements.reserve(static_cast<std::size_t>(nf), 3);
+  std::vector<std::uint32_t> corners;
   while (static_cast<long long>(soup.elements.size()) < nf) {
-    if (!next_tokens(lines, t)) throw ends_early(file, counts_line, soup.elements.size(), nf, "faces");
-    read_face(t, header, nv, file, lines.number(), soup);
+    if (!lines.next(line)) throw ends_early(file, counts_line, soup.elements.size(), nf, "faces");
+    if (fast && read_face_fast(line, header, nv, lines.number(), soup, corners)) continue;
+    split_tokens(line, t);
+    if (!t.empty()) read_face(t, header, nv, file, lines.number(), soup);
   }
   if (next_tokens(lines, t)) throw InputError(place(file, lines.number()) + ": unexpected data after the last face");
   return soup;
+}
+
+}  // namespace
+
+PolygonSoup read_off(std::string_view text, const std::string& file) { return read_off_lines(text, file, true); }
+
+PolygonSoup read_off_general(std::string_view text, const std::string& file) {
+  return read_off_lines(text, file, false);
 }
 
 void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors) {

@@ -20,6 +20,11 @@ namespace ffd {
 /// Parses OFF text. \throw InputError "file:line: ..." on malformed or unsupported input.
 PolygonSoup read_off(std::string_view text, const std::string& file);
 
+/// read_off without its fast path for plain vertex and face lines: every line through the
+/// general tokenizing reader. The same soup, or the same error, as read_off on any text;
+/// the reference the fast path is tested against.
+PolygonSoup read_off_general(std::string_view text, const std::string& file);
+
 /// Writes `mesh`'s current positions (and `colors`, COFF) as OFF with shortest round-trip
 /// numbers; `normals` (3 × n, may be null) adds per-vertex normals (NOFF).
 void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors);

@@ -1,6 +1,8 @@
 // Line and token scanning shared by the text mesh readers.
 #pragma once
 
+#include <charconv>
+#include <cmath>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,6 +51,34 @@ inline void split_tokens(std::string_view line, std::vector<std::string_view>& t
     while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
     if (i > start) tokens.push_back(line.substr(start, i - start));
   }
+}
+
+// In-place parsing for the readers' fast paths (OBJ `v`/`f`, OFF vertex and face lines):
+// no token vector, and false, having changed nothing, at anything not taken in full, so
+// that the reader hands the line to its general path, which gives the error.
+
+inline bool blank(char c) { return c == ' ' || c == '\t'; }
+
+inline const char* skip_blanks(const char* p, const char* end) {
+  while (p < end && blank(*p)) ++p;
+  return p;
+}
+
+/// A finite number at p that ends at a blank or the line's end, read as parse_finite
+/// would (std::from_chars; a leading '+' is left to the general path).
+inline bool fast_number(const char*& p, const char* end, double& value) {
+  const auto [next, ec] = std::from_chars(p, end, value, std::chars_format::general);
+  if (ec != std::errc() || next == p || (next < end && !blank(*next)) || !std::isfinite(value)) return false;
+  p = next;
+  return true;
+}
+
+/// An integer at p that ends at a blank or the line's end.
+inline bool fast_integer(const char*& p, const char* end, long long& value) {
+  const auto [next, ec] = std::from_chars(p, end, value);
+  if (ec != std::errc() || next == p || (next < end && !blank(*next))) return false;
+  p = next;
+  return true;
 }
 
 /// "file:line" for messages.

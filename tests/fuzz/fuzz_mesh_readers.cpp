@@ -6,12 +6,14 @@
 #include "mesh/off_io.h"
 #include "mesh/ply_io.h"
 #include "mesh/stl_io.h"
-#include "obj_paths.h"
+#include "reader_paths.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   return ffd::fuzz::one_input(data, size, [](std::string_view bytes) {
-#ifdef FFD_FUZZ_OBJ  // the fast path must read every input as the general path does
+#if defined(FFD_FUZZ_OBJ)  // the fast path must read every input as the general path does
     ffd::fuzz::check_obj_paths_agree(bytes);
+#elif defined(FFD_FUZZ_OFF)
+    ffd::fuzz::check_off_paths_agree(bytes);
 #endif
     ffd::PolygonSoup soup = FFD_FUZZ_READER(bytes, "fuzz");
     ffd::build_mesh(std::move(soup), "fuzz");
