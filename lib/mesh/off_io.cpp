@@ -121,7 +121,7 @@ void read_face(const std::vector<std::string_view>& t, const OffHeader& header, 
   if (!parse_integer(t[0], k) || k < 3)
     throw InputError(place(file, n) + ": a face starts with its vertex count (3 or more), found '" +
                      std::string(t[0]) + "'");
-  if (static_cast<long long>(t.size()) < k + 1)
+  if (static_cast<long long>(t.size()) - 1 < k)  // not k + 1: k may be LLONG_MAX
     throw InputError(place(file, n) + ": the face lists " + std::to_string(t.size() - 1) + " of its " +
                      std::to_string(k) + " vertices");
   const std::size_t trailing = t.size() - 1 - k;  // optional face colour
