@@ -3,6 +3,7 @@
 // allocation; what a reader fills and a writer walks.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <initializer_list>
 #include <string>
@@ -67,8 +68,10 @@ struct MeshElements {
     }
     corners.push_back(vertex);
   }
-  /// Ends the element whose corners were added since the last close().
-  void close(ElementKind kind, std::int32_t group = -1, std::uint32_t line = 0) {
+  /// Ends the element whose corners were added since the last close(); `line` is the
+  /// file line that defined it (0: unknown; lines past 2^32 - 1 are kept as that).
+  void close(ElementKind kind, std::int32_t group = -1, std::size_t file_line = 0) {
+    const auto line = static_cast<std::uint32_t>(std::min<std::size_t>(file_line, 0xffffffffu));
     if (corners.size() > 0xffffffffu) throw_too_many_corners();
     if (group >= 0 || !groups.empty()) {
       groups.resize(kinds.size(), -1);  // -1 for the elements before the first group

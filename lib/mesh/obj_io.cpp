@@ -1,12 +1,11 @@
 #include "mesh/obj_io.h"
 
+#include <algorithm>
+#include <charconv>
+#include <cstring>
 
 #include "common/errors.h"
 #include "common/numbers.h"
-#include <algorithm>
-#include <charconv>
-#include <cmath>
-#include <cstring>
 #include "mesh/text_lines.h"
 #include "mesh/text_sink.h"
 
@@ -58,7 +57,7 @@ void read_vertex(const std::vector<std::string_view>& tokens, const std::string&
     }
   }
   soup.positions.push_back(p);
-    if (any_color) soup.colors.push_back(c);
+  if (any_color) soup.colors.push_back(c);
 }
 
 // Appends `vt u [v [w]]` on line n to `soup` (w is checked, then dropped).
@@ -110,7 +109,7 @@ void read_element(const std::vector<std::string_view>& tokens, ElementKind kind,
     if (!ntok.empty()) nn = static_cast<std::int32_t>(resolve_index(ntok, soup.normals.size(), file, n, "normal"));
     soup.elements.add_corner(v, t, nn);
   }
-  soup.elements.close(kind, group, static_cast<std::uint32_t>(std::min<std::size_t>(n, 0xffffffffu)));
+  soup.elements.close(kind, group, n);
 }
 
 // Applies an `o`, `g`, `usemtl` or `s` statement to `state`; sets `changed` when it
@@ -133,6 +132,7 @@ void set_state(std::string_view line, std::string_view key, ObjState& state, boo
 // at anything it does not take in full (a comment, a '+' sign, colours, a bad index);
 // the general path then reads that line and gives its error, so both paths accept the
 // same text and build the same soup (tests and the obj fuzz target check this).
+
 // A non-zero index at p resolved against `count` (as resolve_index does), ending at a
 // blank, '/', or the line's end when `slash` is set (else at a blank or the end).
 bool fast_index(const char*& p, const char* end, std::size_t count, bool slash, std::int64_t& index) {
@@ -148,14 +148,8 @@ bool fast_index(const char*& p, const char* end, std::size_t count, bool slash, 
 }
 
 bool read_vertex_fast(std::string_view line, PolygonSoup& soup, bool any_color) {
-  const char* p = line.data() + 1;
-  const char* end = line.data() + line.size();
   Eigen::Vector3d v;
-  for (int k = 0; k < 3; ++k) {
-    p = skip_blanks(p, end);
-    if (!fast_number(p, end, v[k])) return false;
-  }
-  if (skip_blanks(p, end) != end) return false;
+  if (!fast_numbers_to_end(line.data() + 1, line.data() + line.size(), v.data(), 3)) return false;
   soup.positions.push_back(v);
   if (any_color) soup.colors.push_back(Eigen::Vector3f(0.8f, 0.8f, 0.8f));
   return true;
@@ -187,7 +181,7 @@ bool read_face_fast(std::string_view line, std::int32_t group, std::size_t n, Po
   for (std::size_t i = 0; i < corners.size(); i += 3)
     soup.elements.add_corner(static_cast<std::uint32_t>(corners[i]), static_cast<std::int32_t>(corners[i + 1]),
                              static_cast<std::int32_t>(corners[i + 2]));
-  soup.elements.close(ElementKind::Polygon, group, static_cast<std::uint32_t>(std::min<std::size_t>(n, 0xffffffffu)));
+  soup.elements.close(ElementKind::Polygon, group, n);
   return true;
 }
 
@@ -213,10 +207,6 @@ void reserve_for(std::string_view text, PolygonSoup& soup) {
   soup.elements.reserve(faces, 3);
   soup.elements.lines.reserve(faces);
 }
-
-}  // namespace
-
-namespace {
 
 PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool fast) {
   PolygonSoup soup;

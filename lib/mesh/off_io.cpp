@@ -112,11 +112,20 @@ void read_vertex(const std::vector<std::string_view>& t, const OffHeader& header
   }
 }
 
+// Appends the face of line n with vertices `corners`; per-vertex normals and texture
+// coordinates (NOFF, STOFF) become its corners'.
+void append_face(const std::vector<std::uint32_t>& corners, const OffHeader& header, std::size_t n,
+                 PolygonSoup& soup) {
+  for (std::uint32_t v : corners)
+    soup.elements.add_corner(v, header.st ? static_cast<std::int32_t>(v) : -1,
+                             header.normal ? static_cast<std::int32_t>(v) : -1);
+  soup.elements.close(ElementKind::Polygon, -1, n);
+}
+
 // The face on line n (tokens t): its vertex count, that many indices below nv, and an
-// optional colour (ignored), appended to the soup's elements. Per-vertex normals and
-// texture coordinates become the face's corners'.
+// optional colour (ignored), appended to the soup's elements (`corners`: scratch).
 void read_face(const std::vector<std::string_view>& t, const OffHeader& header, long long nv,
-               const std::string& file, std::size_t n, PolygonSoup& soup) {
+               const std::string& file, std::size_t n, PolygonSoup& soup, std::vector<std::uint32_t>& corners) {
   long long k;
   if (!parse_integer(t[0], k) || k < 3)
     throw InputError(place(file, n) + ": a face starts with its vertex count (3 or more), found '" +
@@ -127,16 +136,15 @@ void read_face(const std::vector<std::string_view>& t, const OffHeader& header, 
   const std::size_t trailing = t.size() - 1 - k;  // optional face colour
   if (trailing != 0 && trailing != 1 && trailing != 3 && trailing != 4)
     throw InputError(place(file, n) + ": unexpected values after the face's vertex indices");
+  corners.clear();
   for (long long i = 0; i < k; ++i) {
     long long idx;
     if (!parse_integer(t[1 + i], idx) || idx < 0 || idx >= nv)
       throw InputError(place(file, n) + ": vertex index '" + std::string(t[1 + i]) +
                        "' is out of range (0.." + std::to_string(nv - 1) + ")");
-    const auto v = static_cast<std::uint32_t>(idx);
-    soup.elements.add_corner(v, header.st ? static_cast<std::int32_t>(v) : -1,
-                             header.normal ? static_cast<std::int32_t>(v) : -1);
+    corners.push_back(static_cast<std::uint32_t>(idx));
   }
-  soup.elements.close(ElementKind::Polygon, -1, static_cast<std::uint32_t>(std::min<std::size_t>(n, 0xffffffffu)));
+  append_face(corners, header, n, soup);
 }
 
 // The fast path for the lines of a plain mesh: a vertex `x y z` (no normal, colour or
@@ -145,14 +153,8 @@ void read_face(const std::vector<std::string_view>& t, const OffHeader& header, 
 // the line (blank and comment lines included) and gives its error, so both paths read
 // the same soup (tests/mesh_io_test.cpp checks this).
 bool read_vertex_fast(std::string_view line, PolygonSoup& soup) {
-  const char* p = line.data();
-  const char* end = p + line.size();
   Eigen::Vector3d v;
-  for (int k = 0; k < 3; ++k) {
-    p = skip_blanks(p, end);
-    if (!fast_number(p, end, v[k])) return false;
-  }
-  if (skip_blanks(p, end) != end) return false;
+  if (!fast_numbers_to_end(line.data(), line.data() + line.size(), v.data(), 3)) return false;
   soup.positions.push_back(v);
   return true;
 }
@@ -171,10 +173,7 @@ bool read_face_fast(std::string_view line, const OffHeader& header, long long nv
     corners.push_back(static_cast<std::uint32_t>(idx));
   }
   if (skip_blanks(p, end) != end) return false;
-  for (std::uint32_t v : corners)
-    soup.elements.add_corner(v, header.st ? static_cast<std::int32_t>(v) : -1,
-                             header.normal ? static_cast<std::int32_t>(v) : -1);
-  soup.elements.close(ElementKind::Polygon, -1, static_cast<std::uint32_t>(std::min<std::size_t>(n, 0xffffffffu)));
+  append_face(corners, header, n, soup);
   return true;
 }
 
@@ -194,10 +193,6 @@ InputError ends_early(const std::string& file, std::size_t counts_line, std::siz
   return InputError(place(file, counts_line) + ": the file ends after " + std::to_string(read) + " of the " +
                     std::to_string(promised) + " " + what + " this line promises");
 }
-
-}  // namespace
-
-namespace {
 
 PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool fast) {
   PolygonSoup soup;
@@ -230,7 +225,7 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
     if (!lines.next(line)) throw ends_early(file, counts_line, soup.elements.size(), nf, "faces");
     if (fast && read_face_fast(line, header, nv, lines.number(), soup, corners)) continue;
     split_tokens(line, t);
-    if (!t.empty()) read_face(t, header, nv, file, lines.number(), soup);
+    if (!t.empty()) read_face(t, header, nv, file, lines.number(), soup, corners);
   }
   if (next_tokens(lines, t)) throw InputError(place(file, lines.number()) + ": unexpected data after the last face");
   return soup;

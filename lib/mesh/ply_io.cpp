@@ -443,7 +443,7 @@ void read_faces(Cursor& cur, const Element& e, std::uint64_t vertices, const Ver
       // Checked here, not only in build_mesh: it bounds the memory a face takes per byte.
       if (p.indices && n < 3) cur.fail("a face needs at least 3 vertices, found " + std::to_string(n));
     }
-    soup.elements.close(ElementKind::Polygon, -1, static_cast<std::uint32_t>(std::min<std::size_t>(line, 0xffffffffu)));
+    soup.elements.close(ElementKind::Polygon, -1, line);
   }
 }
 

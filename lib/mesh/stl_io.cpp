@@ -173,7 +173,7 @@ void read_facet(Words& w, std::size_t index, VertexMerger& merger, PolygonSoup& 
   }
   w.expect("endloop");
   w.expect("endfacet");
-  soup.elements.close(ElementKind::Polygon, -1, static_cast<std::uint32_t>(std::min<std::size_t>(facet_line, 0xffffffffu)));
+  soup.elements.close(ElementKind::Polygon, -1, facet_line);
 }
 
 PolygonSoup read_ascii(std::string_view text, const std::string& file) {

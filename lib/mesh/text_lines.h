@@ -73,6 +73,15 @@ inline bool fast_number(const char*& p, const char* end, double& value) {
   return true;
 }
 
+/// `count` numbers (fast_number) from p, then nothing but blanks to `end`.
+inline bool fast_numbers_to_end(const char* p, const char* end, double* out, int count) {
+  for (int k = 0; k < count; ++k) {
+    p = skip_blanks(p, end);
+    if (!fast_number(p, end, out[k])) return false;
+  }
+  return skip_blanks(p, end) == end;
+}
+
 /// An integer at p that ends at a blank or the line's end.
 inline bool fast_integer(const char*& p, const char* end, long long& value) {
   const auto [next, ec] = std::from_chars(p, end, value);
