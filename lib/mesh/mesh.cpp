@@ -43,6 +43,7 @@ Mesh Mesh::clone() const {
   copy.file_uv_count = file_uv_count;
   copy.file_normal_count = file_normal_count;
   copy.source_ = source_;
+  copy.source_binary_ = source_binary_;
   copy.vertex_levels_ = vertex_levels_;
   copy.edge_levels_ = edge_levels_;
   copy.topology_version_ = topology_version_;
@@ -71,20 +72,21 @@ void resize_columns(Eigen::Matrix3Xd& m, Eigen::Index n) {
 void Mesh::resize_vertices(std::size_t count) {
   const auto n = static_cast<Eigen::Index>(count);
   for (Eigen::Matrix3Xd* m : {&rest_, &pos_, &rest_normal_, &normal_}) resize_columns(*m, n);
-  for (auto& [name, m] : attributes_) resize_columns(m, n);
-  if (!colors_.empty()) colors_.resize(count, Eigen::Vector3f(0.8f, 0.8f, 0.8f));
-  if (!vertex_levels_.empty()) vertex_levels_.resize(count, 0);
+  resize_other_vertex_data(count);
 }
 
 void Mesh::set_vertices(Eigen::Matrix3Xd positions) {
-  const std::size_t count = static_cast<std::size_t>(positions.cols());
   rest_ = positions;
   pos_ = std::move(positions);
   rest_normal_.resize(3, pos_.cols());  // compute_vertex_normals writes every column
-  for (auto& [name, m] : attributes_) resize_columns(m, pos_.cols());
+  resize_other_vertex_data(num_vertices());
+  recompute_rest_normals(true);
+}
+
+void Mesh::resize_other_vertex_data(std::size_t count) {
+  for (auto& [name, m] : attributes_) resize_columns(m, static_cast<Eigen::Index>(count));
   if (!colors_.empty()) colors_.resize(count, Eigen::Vector3f(0.8f, 0.8f, 0.8f));
   if (!vertex_levels_.empty()) vertex_levels_.resize(count, 0);
-  recompute_rest_normals(true);
 }
 
 Vec3Array Mesh::vec3_attribute(const std::string& name) {

@@ -200,6 +200,9 @@ public:
   void revalidate_cached_view() { view_version_ = topology_version_; }
 
 private:
+  // Resizes the vec3 attributes, colours and vertex levels to `count` vertices (kept
+  // for the first ones, default past them).
+  void resize_other_vertex_data(std::size_t count);
   static Vec3Array map(Eigen::Matrix3Xd& m) { return {m.data(), 3, m.cols()}; }
   static ConstVec3Array map(const Eigen::Matrix3Xd& m) { return {m.data(), 3, m.cols()}; }
 

@@ -54,7 +54,7 @@ class Remesher {
 public:
   Remesher(Mesh& mesh, HalfedgeView& view, const WarpStack& stack, const RemeshOptions& options, RemeshStats& stats,
            const std::function<void(double)>& progress)
-      : mesh_(mesh), s_(view), sm_(s_.sm), stack_(stack), options_(options), stats_(stats), p_(view),
+      : mesh_(mesh), s_(view), sm_(s_.sm), stack_(stack), options_(options), stats_(stats),
         progress_(progress) {
     const double deg = M_PI / 180.0;
     eps_max_ = 1 - std::cos(options.theta_max_deg * deg);
@@ -121,12 +121,11 @@ private:
   void evaluate(VertexIndex m);
 
   Mesh& mesh_;
-  HalfedgeView& s_;
+  HalfedgeView& s_;  // the view the remesher edits; the declared attributes (levels, starts) live there
   SurfaceMesh& sm_;
   const WarpStack& stack_;
   const RemeshOptions& options_;
   RemeshStats& stats_;
-  HalfedgeView& p_;  // the declared attributes (levels, starts) live in the view
   const std::function<void(double)>& progress_;
   double refine_share_ = 0;  // of the whole, after the scan
   std::vector<Domain> domains_;
@@ -243,13 +242,13 @@ FaceRecord Remesher::record(FaceIndex f) const {
   for (HalfedgeIndex h : CGAL::halfedges_around_face(sm_.halfedge(f), sm_))
     r.corners[sm_.target(h).idx()] = {s_.uv[h], s_.vn[h]};
   r.group = s_.group[f];
-  r.start = p_.start[f];
+  r.start = s_.start[f];
   return r;
 }
 
 void Remesher::restore_start(FaceIndex f) {
   for (HalfedgeIndex h : CGAL::halfedges_around_face(sm_.halfedge(f), sm_))
-    if (sm_.target(h).idx() == p_.start[f]) {
+    if (sm_.target(h).idx() == s_.start[f]) {
       sm_.set_halfedge(f, h);
       return;
     }
@@ -291,7 +290,7 @@ void Remesher::triangulate() {
       s_.vn[h] = c.vn;
     }
     s_.group[face] = r.group;
-    p_.start[face] = face == polygon ? r.start : sm_.target(sm_.halfedge(face)).idx();
+    s_.start[face] = face == polygon ? r.start : sm_.target(sm_.halfedge(face)).idx();
     restore_start(face);
   }
   mesh_.mark_topology_changed();
@@ -338,19 +337,19 @@ std::array<EdgeIndex, 4> Remesher::split(EdgeIndex e, Level r) {
   const Eigen::Vector3d n = s_.rest_normal[b] + s_.rest_normal[c];
   s_.rest_normal[m] = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
   if (s_.has_colors) s_.color[m] = 0.5f * (s_.color[b] + s_.color[c]);
-  p_.vertex_level[m] = r;
-  p_.edge_level[sm_.edge(hnew)] = p_.edge_level[e];  // bm and cm keep bc's level
+  s_.vertex_level[m] = r;
+  s_.edge_level[sm_.edge(hnew)] = s_.edge_level[e];  // bm and cm keep bc's level
 
   std::array<EdgeIndex, 4> edges{EdgeIndex(), EdgeIndex(), sm_.edge(hnew), e};
   if (has1) {
     const HalfedgeIndex ma = CGAL::Euler::split_face(hnew, sm_.next(h), sm_);
     edges[0] = sm_.edge(ma);
-    p_.edge_level[edges[0]] = r;
+    s_.edge_level[edges[0]] = r;
   }
   if (has2) {
     const HalfedgeIndex md = CGAL::Euler::split_face(sm_.opposite(h), sm_.next(sm_.opposite(hnew)), sm_);
     edges[1] = sm_.edge(md);
-    p_.edge_level[edges[1]] = r;
+    s_.edge_level[edges[1]] = r;
   }
   // Corner attributes, groups and first vertices of the (up to) four faces around m.
   for (HalfedgeIndex around : CGAL::halfedges_around_target(sm_.halfedge(m), sm_)) {
@@ -368,7 +367,7 @@ std::array<EdgeIndex, 4> Remesher::split(EdgeIndex e, Level r) {
       s_.vn[g] = corner.vn;
     }
     s_.group[f] = side.group;
-    p_.start[f] = f == side.face ? side.start : sm_.target(sm_.halfedge(f)).idx();
+    s_.start[f] = f == side.face ? side.start : sm_.target(sm_.halfedge(f)).idx();
     restore_start(f);
   }
   evaluate(m);
@@ -386,9 +385,9 @@ void Remesher::evaluate(VertexIndex m) {
 }
 
 Level Remesher::split_level(HalfedgeIndex h) const {
-  Level r = std::max(p_.vertex_level[sm_.source(h)], p_.vertex_level[sm_.target(h)]);
+  Level r = std::max(s_.vertex_level[sm_.source(h)], s_.vertex_level[sm_.target(h)]);
   for (HalfedgeIndex g : {h, sm_.opposite(h)})
-    if (!sm_.is_border(g)) r = std::max(r, p_.vertex_level[sm_.target(sm_.next(g))]);
+    if (!sm_.is_border(g)) r = std::max(r, s_.vertex_level[sm_.target(sm_.next(g))]);
   return r;
 }
 
@@ -461,7 +460,7 @@ void Remesher::refine() {
 // The exact reverse of split (figure 3 backwards): m, with level-r edges am, dm and
 // lower edges bm, cm of one level, goes; bc comes back with its level and edge index.
 bool Remesher::try_decimate(VertexIndex m) {
-  const Level r = p_.vertex_level[m];
+  const Level r = s_.vertex_level[m];
   std::vector<HalfedgeIndex> out;  // m → neighbour, in cyclic order
   for (HalfedgeIndex h : CGAL::halfedges_around_target(sm_.halfedge(m), sm_)) out.push_back(sm_.opposite(h));
   const bool boundary = sm_.is_border(m);
@@ -469,8 +468,8 @@ bool Remesher::try_decimate(VertexIndex m) {
   if (n != (boundary ? 3u : 4u)) return false;
   std::vector<std::size_t> high, low;
   for (std::size_t i = 0; i < n; ++i) {
-    if (p_.vertex_level[sm_.target(out[i])] > r) return false;
-    const Level el = p_.edge_level[sm_.edge(out[i])];
+    if (s_.vertex_level[sm_.target(out[i])] > r) return false;
+    const Level el = s_.edge_level[sm_.edge(out[i])];
     if (el == r)
       high.push_back(i);
     else if (el < r)
@@ -479,7 +478,7 @@ bool Remesher::try_decimate(VertexIndex m) {
       return false;
   }
   if (low.size() != 2 || high.size() != n - 2) return false;
-  if (p_.edge_level[sm_.edge(out[low[0]])] != p_.edge_level[sm_.edge(out[low[1]])]) return false;
+  if (s_.edge_level[sm_.edge(out[low[0]])] != s_.edge_level[sm_.edge(out[low[1]])]) return false;
   if (boundary) {
     if (!sm_.is_border(sm_.edge(out[low[0]])) || !sm_.is_border(sm_.edge(out[low[1]]))) return false;
   } else if ((low[1] - low[0]) != 2) {
@@ -539,10 +538,10 @@ bool Remesher::try_decimate(VertexIndex m) {
 void Remesher::decimate() {
   std::vector<VertexIndex> order;
   for (std::size_t v = 0; v < candidate_.size(); ++v)
-    if (candidate_[v] && p_.vertex_level[VertexIndex(static_cast<std::uint32_t>(v))] > 0)
+    if (candidate_[v] && s_.vertex_level[VertexIndex(static_cast<std::uint32_t>(v))] > 0)
       order.push_back(VertexIndex(static_cast<std::uint32_t>(v)));
   std::stable_sort(order.begin(), order.end(), [&](VertexIndex x, VertexIndex y) {
-    return p_.vertex_level[x] > p_.vertex_level[y];
+    return s_.vertex_level[x] > s_.vertex_level[y];
   });
   const double start = kScanShare + refine_share_;
   for (std::size_t k = 0; k < order.size(); ++k) {
@@ -620,7 +619,7 @@ void Remesher::run() {
   stats_.ms_decimate = clock.ms();
 
   if (stats_.refinements || stats_.decimations) mesh_.mark_topology_changed();
-  for (VertexIndex v : sm_.vertices()) stats_.highest_level = std::max<int>(stats_.highest_level, p_.vertex_level[v]);
+  for (VertexIndex v : sm_.vertices()) stats_.highest_level = std::max<int>(stats_.highest_level, s_.vertex_level[v]);
   stats_.faces_after = sm_.number_of_faces();
   report(1);
 }
