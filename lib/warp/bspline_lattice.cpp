@@ -85,8 +85,7 @@ void BSplineLattice::piece_changed(std::size_t piece) {
 
 void BSplineLattice::compute_block(std::size_t piece) const {
   const int n = degree_ + 1;
-  const std::size_t size = static_cast<std::size_t>(3) * n * n * n;
-  const std::size_t stored = static_cast<std::size_t>(4) * n * n * n;
+  const std::size_t size = static_cast<std::size_t>(3) * n * n * n;  // also a block's size
   const Index3 cell = {static_cast<int>(piece % cells_[0]),
                        static_cast<int>((piece / cells_[0]) % cells_[1]),
                        static_cast<int>(piece / (static_cast<std::size_t>(cells_[0]) * cells_[1]))};
@@ -112,8 +111,8 @@ void BSplineLattice::compute_block(std::size_t piece) const {
       slot = free_blocks_.back();
       free_blocks_.pop_back();
     } else {
-      slot = static_cast<std::int32_t>(blocks_.size() / stored);
-      blocks_.resize(blocks_.size() + stored);
+      slot = static_cast<std::int32_t>(blocks_.size() / size);
+      blocks_.resize(blocks_.size() + size);
     }
   }
   // Three mode products with the power matrix: C[c][p][q][r] = Σ M(p,i) M(q,j) M(r,k) g[c][i][j][k].
@@ -135,16 +134,15 @@ void BSplineLattice::compute_block(std::size_t piece) const {
           for (int j = 0; j < n; ++j) acc += M(q, j) * t1[((c * n + i) * n + j) * n + r];
           t2[((c * n + i) * n + q) * n + r] = acc;
         }
-  double* out = blocks_.data() + static_cast<std::size_t>(slot) * stored;
+  double* out = blocks_.data() + static_cast<std::size_t>(slot) * size;
   for (int c = 0; c < 3; ++c)
     for (int p = 0; p < n; ++p)
       for (int q = 0; q < n; ++q)
         for (int r = 0; r < n; ++r) {
           double acc = 0;
           for (int i = 0; i < n; ++i) acc += M(p, i) * t2[((c * n + i) * n + q) * n + r];
-          out[4 * ((p * n + q) * n + r) + c] = acc;  // [p][q][r][xyz_]
+          out[((c * n + p) * n + q) * n + r] = acc;  // [xyz][p][q][r]
         }
-  for (std::size_t k = 3; k < stored; k += 4) out[k] = 0;
 }
 
 void BSplineLattice::prepare() { refresh_blocks(); }
@@ -166,7 +164,7 @@ namespace {
 constexpr int kLanes = 8;
 typedef double v8d __attribute__((vector_size(kLanes * sizeof(double))));
 
-// Horner's rule over one cell's power coefficients C[p][q][r][xyz_] (Gain & Dodgson eq. 1
+// Horner's rule over one cell's power coefficients C[xyz][p][q][r] (Gain & Dodgson eq. 1
 // in power form) at eight points (s, t, r) of that cell, coordinate by coordinate: the
 // displacement V and, with kGrad, its partial derivatives (eq. 5-7 in power form) by the
 // derivative-carrying Horner scheme. The coefficients are broadcast: all lanes share the cell.
@@ -179,11 +177,11 @@ inline void horner_lanes(const double* C, v8d s, v8d t, v8d r, v8d V[3], v8d Vs[
     for (int p = D; p >= 0; --p) {
       v8d b = zero, bt = zero, br = zero;
       for (int q = D; q >= 0; --q) {
-        const double* cq = C + 4 * ((p * N + q) * N) + c;
-        v8d a = zero + cq[4 * D], ar = zero;
+        const double* cq = C + ((c * N + p) * N + q) * N;
+        v8d a = zero + cq[D], ar = zero;
         for (int k = D - 1; k >= 0; --k) {
           if (kGrad) ar = ar * r + a;
-          a = a * r + cq[4 * k];
+          a = a * r + cq[k];
         }
         if (kGrad) {
           bt = bt * t + b;
@@ -292,7 +290,7 @@ void CellChunk::sort(const Eigen::Ref<const Eigen::Matrix3Xd>& pos, const Eigen:
 
 // What one evaluation reads and writes. out_nrm null: positions only.
 struct CellKernel {
-  const double* blocks;    // per block: [p][q][r][x, y, z, 0]
+  const double* blocks;    // per block: [xyz][p][q][r]
   std::size_t block_size;  // doubles per block
   Eigen::Matrix3d K;       // dσ/dx
   Eigen::Ref<Eigen::Matrix3Xd>& out_pos;
@@ -356,7 +354,7 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                               Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const {
   constexpr int N = D + 1;
   refresh_blocks();
-  const CellKernel kernel{blocks_.data(), 4 * N * N * N, local_to_world_jac_, out_pos, out_nrm};
+  const CellKernel kernel{blocks_.data(), 3 * N * N * N, local_to_world_jac_, out_pos, out_nrm};
   const Eigen::Matrix3d& inv = box_.inverse_axes();
   const Eigen::Vector3d& origin = box_.origin();
   std::size_t folded = 0, evaluated = 0;

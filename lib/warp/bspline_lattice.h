@@ -80,8 +80,8 @@ private:
   Eigen::Matrix3d local_to_world_jac_;   // dσ/dx: diag(cells) · inverse axes
   // Power-form cache, refreshed lazily (prepare(), or the first evaluation after a move).
   mutable std::vector<std::int32_t> block_of_;  // per cell: block number, -1 = no displacement
-  // per block: [p][q][r][x, y, z, 0] power coefficients, 32-byte aligned for AVX loads
-  mutable std::vector<double, Eigen::aligned_allocator<double>> blocks_;
+  // per block: [xyz][p][q][r] power coefficients (the kernel broadcasts each one)
+  mutable std::vector<double> blocks_;
   mutable std::vector<std::int32_t> free_blocks_;
   mutable std::vector<std::uint8_t> stale_;     // cells whose block must be recomputed
   mutable std::vector<std::size_t> stale_list_;
