@@ -264,7 +264,7 @@ void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* norma
       const Eigen::Vector3f& c = (*colors)[static_cast<std::size_t>(i)];
       for (int k = 0; k < 3; ++k) {
         out.put(' ');
-        out.integer(static_cast<std::int64_t>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f)));
+        out.integer(std::uint32_t{color_byte(c[k])});
       }
       out.put(" 255");
     }

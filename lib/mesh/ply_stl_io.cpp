@@ -35,8 +35,6 @@ void put_ply_header(TextSink& out, const Mesh& mesh, bool normals, bool colors, 
                : "\nproperty list uchar int vertex_indices\nend_header\n");
 }
 
-std::uint8_t color_byte(float c) { return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f)); }
-
 // One vertex's values: x y z, then the normal and the colour when given.
 void put_ply_vertex(TextSink& out, const Mesh& mesh, Eigen::Index i, const Eigen::Matrix3Xd* normals,
                     VertexColors colors, bool binary) {

@@ -1,6 +1,7 @@
-// Buffered output for the mesh writers (text, and the binary PLY and STL bytes). Numbers and indices are formatted straight
-// into one fixed buffer (std::to_chars) that goes to the stream in 1 MB blocks, so a
-// writer's memory stays bounded whatever the mesh size and no string is built per token.
+// Buffered output for the mesh writers: text, and the bytes of binary PLY and STL.
+// Numbers and indices are formatted straight into one fixed buffer (std::to_chars) that
+// goes to the stream in 1 MB blocks, so a writer's memory stays bounded whatever the
+// mesh size and no string is built per token.
 #pragma once
 
 #include <charconv>
@@ -57,8 +58,8 @@ public:
   }
   void integer(std::uint32_t x) { integer(static_cast<std::uint64_t>(x)); }
   void integer(std::int32_t x) { integer(static_cast<std::int64_t>(x)); }
-  /// Writes what is buffered to the stream. Call once at the end; the destructor does
-  /// not, so that a writer that throws leaves no half-formatted block behind.
+  /// Writes what is buffered to the stream. Call it at the end; the destructor does not,
+  /// so that a writer that throws leaves no half-formatted block behind.
   void flush() {
     os_.write(buffer_.get(), static_cast<std::streamsize>(end_ - buffer_.get()));
     end_ = buffer_.get();
