@@ -236,6 +236,22 @@ TEST(ObjIo, ReadsEveryStatementExactly) {
   EXPECT_GT(degrees[5], 0u);
 }
 
+// Runs a reader's fast-against-general check on each text: a difference fails the test;
+// `read` and `refused` count the texts both paths read, and both refused alike.
+void check_paths_agree_on(const std::vector<std::string>& texts, void (*check)(std::string_view),
+                          std::size_t& read, std::size_t& refused) {
+  for (const std::string& text : texts) {
+    try {
+      check(text);
+      ++read;
+    } catch (const InputError&) {
+      ++refused;
+    } catch (const std::logic_error& e) {
+      ADD_FAILURE() << e.what() << " on:\n" << text.substr(0, 400);
+    }
+  }
+}
+
 // read_obj parses the common `v` and `f` lines in place and hands anything else to the
 // general tokenizing reader: both must read the same soup, or fail with the same message.
 TEST(ObjIo, FastPathReadsWhatTheGeneralPathReads) {
@@ -252,16 +268,7 @@ TEST(ObjIo, FastPathReadsWhatTheGeneralPathReads) {
     texts.push_back(head + "g part\n" + line + "\nf 1 2 3\nv 1 1 1 0.2 0.3 0.4\n" + line + "\n");
   }
   std::size_t read = 0, refused = 0;
-  for (const std::string& text : texts) {
-    try {
-      fuzz::check_obj_paths_agree(text);
-      ++read;
-    } catch (const InputError&) {
-      ++refused;
-    } catch (const std::logic_error& e) {
-      ADD_FAILURE() << e.what() << " on:\n" << text.substr(0, 400);
-    }
-  }
+  check_paths_agree_on(texts, fuzz::check_obj_paths_agree, read, refused);
   EXPECT_GT(read, 10u);
   EXPECT_GT(refused, 10u);
 }
@@ -285,16 +292,7 @@ TEST(OffIo, FastPathReadsWhatTheGeneralPathReads) {
       }
     }
   std::size_t read = 0, refused = 0;
-  for (const std::string& text : texts) {
-    try {
-      fuzz::check_off_paths_agree(text);
-      ++read;
-    } catch (const InputError&) {
-      ++refused;
-    } catch (const std::logic_error& e) {
-      ADD_FAILURE() << e.what() << " on:\n" << text.substr(0, 400);
-    }
-  }
+  check_paths_agree_on(texts, fuzz::check_off_paths_agree, read, refused);
   EXPECT_GT(read, 50u);
   EXPECT_GT(refused, 50u);
 }
