@@ -93,12 +93,30 @@ nlohmann::json mesh_info_json(const ffd::MeshInfo& info) {
           {"colors", info.has_colors}};
 }
 
+// `info`'s glTF facts, for a mesh read from glTF.
+nlohmann::json gltf_json(const ffd::GltfSummary& g) {
+  return {{"nodes", g.nodes},         {"meshes", g.meshes},       {"primitives", g.primitives},
+          {"instances", g.instances}, {"materials", g.materials}, {"textures", g.textures},
+          {"images", g.images},       {"animations", g.animations}, {"skins", g.skins},
+          {"binary", g.binary},       {"notes", g.notes}};
+}
+
+void print_gltf_info(const ffd::GltfSummary& g) {
+  std::printf("  glTF       %s: %zu nodes, %zu meshes drawn by %zu nodes, %zu primitives\n",
+              g.binary ? "binary (GLB)" : "JSON", g.nodes, g.meshes, g.instances, g.primitives);
+  std::printf("             %zu materials, %zu textures, %zu images, %zu animations, %zu skins\n", g.materials,
+              g.textures, g.images, g.animations, g.skins);
+  for (const std::string& note : g.notes) std::printf("  note       %s\n", note.c_str());
+}
+
 int command_info(const std::string& path, bool as_json) {
   const ffd::Mesh mesh = ffd::read_mesh(path);
   const ffd::MeshInfo info = ffd::mesh_info(mesh);
+  const bool gltf = mesh.gltf_scene() != nullptr;
   if (as_json) {
     nlohmann::json j = mesh_info_json(info);
     j["path"] = path;
+    if (gltf) j["gltf"] = gltf_json(ffd::gltf_summary(mesh));
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -125,6 +143,7 @@ int command_info(const std::string& path, bool as_json) {
                                          : ("not a 2-manifold, so remesh and bcm refuse it: " + info.manifold_problem).c_str());
   std::printf("  carries    %s%s%s\n", info.has_uvs ? "UVs " : "", info.has_normals ? "normals " : "",
               info.has_colors ? "colours" : (info.has_uvs || info.has_normals ? "" : "positions only"));
+  if (gltf) print_gltf_info(ffd::gltf_summary(mesh));
   return 0;
 }
 

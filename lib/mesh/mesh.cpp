@@ -44,6 +44,8 @@ Mesh Mesh::clone() const {
   copy.file_normal_count = file_normal_count;
   copy.source_ = source_;
   copy.source_binary_ = source_binary_;
+  copy.gltf_ = gltf_;
+  copy.gltf_version_ = gltf_version_;
   copy.vertex_levels_ = vertex_levels_;
   copy.edge_levels_ = edge_levels_;
   copy.topology_version_ = topology_version_;

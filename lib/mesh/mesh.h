@@ -30,6 +30,7 @@
 namespace ffd {
 
 struct HalfedgeView;
+struct GltfScene;
 
 /// Declared attributes: what steps other than the file's own data leave on a mesh, by
 /// name. Each persists through every later step (copies and connectivity changes too),
@@ -167,6 +168,16 @@ public:
   /// the input's encoding (mesh_io.h, WriteOptions::encoding).
   bool source_binary() const { return source_binary_; }
   void set_source_binary(bool binary) { source_binary_ = binary; }
+  /// The glTF file the mesh was read from (gltf_io.h): its nodes, materials, buffers and
+  /// the map from its primitives to these vertices, so a write can keep its structure;
+  /// null for other formats, and once the connectivity has changed since the read.
+  const GltfScene* gltf_scene() const {
+    return gltf_ && gltf_version_ == topology_version_ ? gltf_.get() : nullptr;
+  }
+  void set_gltf_scene(std::shared_ptr<const GltfScene> scene) {
+    gltf_ = std::move(scene);
+    gltf_version_ = topology_version_;
+  }
 
   /// Refinement levels (mesh_attribute): per vertex (empty: all 0), and the edges whose
   /// level is not 0, sorted by (a, b).
@@ -218,6 +229,8 @@ private:
   std::vector<std::string> header_;
   std::string source_;
   bool source_binary_ = false;
+  std::shared_ptr<const GltfScene> gltf_;  // shared by clones: it is never changed
+  std::uint64_t gltf_version_ = 0;
   std::vector<RefinementLevel> vertex_levels_;
   std::vector<EdgeLevel> edge_levels_;
   std::uint64_t topology_version_ = 0;

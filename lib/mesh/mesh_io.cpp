@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstring>
 #include <memory>
+#include <sstream>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -28,8 +29,10 @@ MeshFormat mesh_format(const std::filesystem::path& path) {
   if (ext == ".off") return MeshFormat::Off;
   if (ext == ".ply") return MeshFormat::Ply;
   if (ext == ".stl") return MeshFormat::Stl;
+  if (ext == ".gltf") return MeshFormat::Gltf;
+  if (ext == ".glb") return MeshFormat::Glb;
   throw InputError(path.string() + ": unknown mesh format '" + ext +
-                   "' (ffdtool reads and writes .obj, .off, .ply, .stl)");
+                   "' (ffdtool reads and writes .obj, .off, .ply, .stl, .gltf, .glb)");
 }
 
 namespace {
@@ -105,6 +108,23 @@ Eigen::Matrix3Xd per_vertex_normals(const Mesh& mesh, const NormalTransform& tra
   return out;
 }
 
+// Stages a copy of each external image of a glTF source beside `target` when it goes to
+// another folder, so the written file's image URIs still resolve; returns the bytes.
+std::size_t stage_gltf_images(const std::filesystem::path& target, const Mesh& mesh, std::vector<StagedFile>& files) {
+  const std::filesystem::path from = gltf_folder(mesh);
+  const std::filesystem::path to = std::filesystem::absolute(target).parent_path().lexically_normal();
+  if (from.empty() || from == to) return 0;
+  std::size_t total = 0;
+  for (const CompanionFile& c : gltf_image_files(mesh)) {
+    std::filesystem::create_directories((to / c.name).parent_path());
+    files.emplace_back(to / c.name);
+    total += files.back().write([&](std::ostream& os) {
+      os.write(reinterpret_cast<const char*>(c.bytes.data()), static_cast<std::streamsize>(c.bytes.size()));
+    });
+  }
+  return total;
+}
+
 }  // namespace
 
 Mesh read_mesh(const std::string& path) {
@@ -123,6 +143,9 @@ Mesh read_mesh(const std::string& path) {
     case MeshFormat::Stl:
       soup = read_stl(read_bytes(path).view(), path);
       break;
+    case MeshFormat::Gltf:
+    case MeshFormat::Glb:
+      return read_gltf(read_bytes(path).view(), path, format == MeshFormat::Glb);
   }
   // Nothing to deform, and nothing a step could write back: not a mesh.
   if (soup.positions.empty()) throw InputError(At{path}, "the file has no vertex");
@@ -131,10 +154,13 @@ Mesh read_mesh(const std::string& path) {
 
 void check_writable(const Mesh& mesh, MeshFormat format, const std::string& path) {
   if (format == MeshFormat::Obj) return;
+  const bool gltf = format == MeshFormat::Gltf || format == MeshFormat::Glb;
+  if (gltf && mesh.gltf_scene()) return;  // written in its own structure
   const std::size_t lines = mesh.elements().count(ElementKind::Line);
   const std::size_t points = mesh.elements().count(ElementKind::Point);
   if (lines + points == 0) return;
-  const char* name = format == MeshFormat::Off ? "OFF" : format == MeshFormat::Ply ? "PLY" : "STL";
+  const char* name = gltf ? "a glTF written from another format" : format == MeshFormat::Off ? "OFF"
+                     : format == MeshFormat::Ply ? "PLY" : "STL";
   throw InputError(At{path}, std::string(name) + " holds faces only, and the mesh has " + std::to_string(lines) +
                                  " line and " + std::to_string(points) +
                                  " point elements (OBJ l and p); save it as .obj to keep them");
@@ -162,14 +188,50 @@ void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh, const Wri
     case MeshFormat::Stl:
       write_stl(os, mesh, binary);
       break;
+    case MeshFormat::Gltf:
+    case MeshFormat::Glb:
+      write_gltf(os, mesh, options.transform_normal, format == MeshFormat::Glb);
+      break;
   }
 }
 
-void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options) {
-  const MeshFormat format = mesh_format(path);
+std::vector<StagedFile> stage_mesh_files(const std::string& path, const Mesh& mesh, const WriteOptions& options,
+                                         std::size_t* bytes) {
+  const std::filesystem::path target(path);
+  const MeshFormat format = mesh_format(target);
   check_writable(mesh, format, path);
+  std::vector<StagedFile> files;
+  std::size_t total = 0;
+  if (format == MeshFormat::Gltf || format == MeshFormat::Glb) total = stage_gltf_images(target, mesh, files);
+  if (format != MeshFormat::Gltf) {
+    files.emplace_back(target);
+    total += files.back().write([&](std::ostream& os) { write_mesh(os, format, mesh, options); });
+    if (bytes) *bytes = total;
+    return files;
+  }
+  std::vector<CompanionFile> companions;
+  std::ostringstream main;
+  write_gltf(main, mesh, options.transform_normal, false, target.stem().string(), &companions);
+  for (const CompanionFile& c : companions) {
+    const std::filesystem::path at = target.parent_path() / c.name;
+    const std::filesystem::path normal = std::filesystem::absolute(at).lexically_normal();
+    if (const GltfScene* scene = mesh.gltf_scene(); scene && gltf_reads_file(*scene, normal))
+      throw InputError(At{path}, "its buffer " + at.string() + " would replace the input's; choose another name");
+    files.emplace_back(at);
+    total += files.back().write([&](std::ostream& os) {
+      os.write(reinterpret_cast<const char*>(c.bytes.data()), static_cast<std::streamsize>(c.bytes.size()));
+    });
+  }
+  const std::string json = main.str();
+  files.emplace_back(target);
+  total += files.back().write([&](std::ostream& os) { os << json; });
+  if (bytes) *bytes = total;
+  return files;
+}
+
+void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options) {
   require_output_folder(path, "output");
-  write_file_atomically(path, [&](std::ostream& os) { write_mesh(os, format, mesh, options); });
+  for (StagedFile& f : stage_mesh_files(path, mesh, options)) f.commit();
 }
 
 }  // namespace ffd

@@ -1,4 +1,4 @@
-// Reading and writing meshes by file extension: .obj, .off, .ply, .stl.
+// Reading and writing meshes by file extension: .obj, .off, .ply, .stl, .gltf, .glb.
 #pragma once
 
 #include <filesystem>
@@ -7,12 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "common/atomic_file.h"
+#include "mesh/gltf_io.h"
 #include "mesh/mesh.h"
 #include "mesh/obj_io.h"
 
 namespace ffd {
 
-enum class MeshFormat { Obj, Off, Ply, Stl };
+enum class MeshFormat { Obj, Off, Ply, Stl, Gltf, Glb };
 
 /// The format named by `path`'s extension (case-insensitive).
 /// \throw InputError for any other extension.
@@ -34,14 +36,22 @@ struct WriteOptions {
 };
 
 /// Checks that `format` can hold every element of `mesh`: OFF, PLY and STL hold faces
-/// only, so a mesh with OBJ lines or points can only be saved as OBJ.
+/// only, so a mesh with OBJ lines or points can only be saved as OBJ (or as the glTF it
+/// was read from).
 /// \throw InputError naming `path` otherwise.
 void check_writable(const Mesh& mesh, MeshFormat format, const std::string& path);
 
 /// Writes `mesh` in `format` to `os` (elements a format cannot hold are left out:
-/// check_writable first).
+/// check_writable first). A .gltf written this way embeds its buffers.
 void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh,
                 const WriteOptions& options = {});
+
+/// Stages the files that writing `mesh` to `path` makes (common/atomic_file.h): a
+/// .gltf's external buffers first ("STEM.bin", "STEM_1.bin", … beside it), then the mesh
+/// file; `bytes` gets their total size. Nothing is in place until each is committed.
+/// 	hrow InputError if a buffer file would replace one the mesh was read from.
+std::vector<StagedFile> stage_mesh_files(const std::string& path, const Mesh& mesh, const WriteOptions& options,
+                                         std::size_t* bytes = nullptr);
 
 /// Writes `mesh` to `path` (format from the extension) whole or not at all.
 /// \throw InputError if the folder is missing or the extension unknown, IoError on I/O.

@@ -9,12 +9,8 @@ std::size_t stage_mesh(Scene& scene, const std::string& relative, const WriteOpt
 }
 
 std::size_t stage_mesh_at(Scene& scene, const std::string& path, const WriteOptions& options) {
-  const std::filesystem::path target(path);
-  const MeshFormat format = mesh_format(target);
-  check_writable(scene.mesh, format, path);
-  StagedFile staged(target);
-  const std::size_t bytes = staged.write([&](std::ostream& os) { write_mesh(os, format, scene.mesh, options); });
-  scene.staged.push_back(std::move(staged));
+  std::size_t bytes = 0;
+  for (StagedFile& f : stage_mesh_files(path, scene.mesh, options, &bytes)) scene.staged.push_back(std::move(f));
   return bytes;
 }
 

@@ -151,8 +151,18 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
     std::fprintf(stderr, "ffdtool: %s: %s vertices, %s faces (read in %s)\n", options.mesh.c_str(),
                  format_count(scene.mesh.num_vertices()).c_str(), format_count(scene.mesh.num_faces()).c_str(),
                  ms_text(stats["input"]["read_ms"].get<double>()).c_str());
+  const GltfSummary gltf = gltf_summary(scene.mesh);
+  for (const std::string& note : gltf.notes) scene.warnings.push_back(options.mesh + ": " + note);
+  if (!options.quiet)
+    for (const std::string& note : gltf.notes) std::fprintf(stderr, "  note: %s\n", note.c_str());
   stats["steps"] = run_steps(script, scene, options);
 
+  const MeshFormat out_format = mesh_format(options.output);
+  if (gltf.instances > 0 && !scene.mesh.gltf_scene() && (out_format == MeshFormat::Gltf || out_format == MeshFormat::Glb)) {
+    scene.warnings.push_back(options.output + ": the steps changed the connectivity, so it is written as one plain "
+                             "primitive (the source's nodes, materials and attributes other than normals are not kept)");
+    if (!options.quiet) std::fprintf(stderr, "  warning: %s\n", scene.warnings.back().c_str());
+  }
   Stopwatch write_clock;
   stage_mesh_at(scene, options.output, scene.write_options());
   const double write_ms = write_clock.ms();

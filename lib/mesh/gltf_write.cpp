@@ -1,0 +1,258 @@
+// The glTF writer (gltf_io.h): the source's structure with new positions and normals, or
+// a plain one-primitive file for a mesh without a glTF source.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unistd.h>
+
+#include "common/errors.h"
+#include "mesh/gltf_accessors.h"
+#include "mesh/gltf_io.h"
+#include "mesh/gltf_scene.h"
+
+namespace ffd {
+
+namespace {
+
+// Images are written back by reference (uri, data URI or bufferView), never re-encoded.
+bool keep_image_reference(const std::string*, const std::string*, const tinygltf::Image*, bool, std::string*,
+                          void*) {
+  return false;
+}
+
+// Each vertex's deformed world normal from its corners' file normals; `has` marks the
+// vertices that have one, `moved` those whose normal the transform changed.
+struct VertexNormals {
+  std::vector<Eigen::Vector3d> value;
+  std::vector<char> has, moved;
+};
+
+VertexNormals deformed_normals(const Mesh& mesh, const NormalTransform& transform) {
+  const MeshElements& el = mesh.elements();
+  VertexNormals out;
+  out.value.assign(mesh.num_vertices(), Eigen::Vector3d::Zero());
+  out.has.assign(mesh.num_vertices(), 0);
+  out.moved.assign(mesh.num_vertices(), 0);
+  if (el.corner_normals.empty()) return out;
+  for (std::size_t c = 0; c < el.corners.size(); ++c) {
+    const std::uint32_t v = el.corners[c];
+    if (out.has[v] || el.corner_normals[c] < 0) continue;
+    const Eigen::Vector3d n = mesh.file_normals()[el.corner_normals[c]];
+    out.value[v] = transform ? transform(v, n) : n;
+    out.moved[v] = out.value[v] != n;
+    out.has[v] = 1;
+  }
+  return out;
+}
+
+// One run's data in its node's local space. A vertex the deformation left where the
+// reader put it keeps the file's float bits exactly.
+struct LocalRun {
+  std::vector<Eigen::Vector3f> positions, normals;
+};
+
+LocalRun local_run(const Mesh& mesh, tinygltf::Model& model, const GltfScene& scene, const GltfRun& run,
+                   const VertexNormals& vn) {
+  const Eigen::Matrix4d& w = scene.instances[run.instance].world;
+  const Eigen::Matrix4d inv = w.inverse();
+  const Eigen::Matrix3d wt = w.topLeftCorner<3, 3>().transpose();
+  LocalRun out;
+  out.positions = read_vec3(model, run.position, "POSITION");
+  for (std::uint32_t i = 0; i < run.count; ++i) {
+    const Eigen::Vector3d p = mesh.positions().col(run.first + i);
+    const Eigen::Vector3d read = (w * out.positions[i].cast<double>().homogeneous()).head<3>();
+    if (p != read) out.positions[i] = (inv * p.homogeneous()).head<3>().cast<float>();
+  }
+  if (run.normal < 0) return out;
+  out.normals = read_vec3(model, run.normal, "NORMAL");
+  for (std::uint32_t i = 0; i < run.count; ++i) {
+    const std::uint32_t v = run.first + i;
+    if (vn.has[v] && vn.moved[v]) out.normals[i] = (wt * vn.value[v]).normalized().cast<float>();
+  }
+  return out;
+}
+
+// Puts `values` into accessor `index`: in place when it is dense, else as new data the
+// accessor then points at (a sparse accessor becomes dense).
+void store_vec3(tinygltf::Model& model, int index, const std::vector<Eigen::Vector3f>& values, bool bounds) {
+  tinygltf::Accessor& a = model.accessors[index];
+  if (a.bufferView >= 0 && !a.sparse.isSparse) {
+    write_vec3(model, index, values);
+  } else {
+    const int fresh = append_vec3(model, values);
+    tinygltf::Accessor moved = model.accessors[fresh];
+    model.accessors.pop_back();
+    moved.name = model.accessors[index].name;
+    model.accessors[index] = moved;
+  }
+  if (bounds) set_bounds(model.accessors[index], values);
+}
+
+// Gives node `node` its own copy of its mesh, whose primitives use new POSITION and
+// NORMAL accessors holding `data` (by old accessor).
+void split_instance(tinygltf::Model& model, int node, const std::map<int, const std::vector<Eigen::Vector3f>*>& data) {
+  tinygltf::Mesh copy = model.meshes[model.nodes[node].mesh];
+  std::map<int, int> fresh;
+  for (tinygltf::Primitive& prim : copy.primitives)
+    for (const char* name : {"POSITION", "NORMAL"}) {
+      auto it = prim.attributes.find(name);
+      if (it == prim.attributes.end() || !data.count(it->second)) continue;
+      auto [f, inserted] = fresh.try_emplace(it->second, -1);
+      if (inserted) f->second = append_vec3(model, *data.at(it->second));
+      it->second = f->second;
+    }
+  model.meshes.push_back(std::move(copy));
+  model.nodes[node].mesh = static_cast<int>(model.meshes.size() - 1);
+}
+
+// The source model with every run's positions and normals replaced (gltf_io.h).
+tinygltf::Model deformed_model(const Mesh& mesh, const GltfScene& scene, const NormalTransform& transform) {
+  tinygltf::Model model = scene.model;
+  const VertexNormals vn = deformed_normals(mesh, transform);
+  std::map<int, std::vector<Eigen::Vector3f>> written;  // accessor -> values stored
+  std::size_t r = 0;
+  while (r < scene.runs.size()) {
+    const std::size_t instance = scene.runs[r].instance;
+    std::vector<std::pair<int, std::vector<Eigen::Vector3f>>> values;  // (accessor, data)
+    std::vector<int> positions;  // the accessors that are POSITION (min and max required)
+    for (; r < scene.runs.size() && scene.runs[r].instance == instance; ++r) {
+      LocalRun local = local_run(mesh, model, scene, scene.runs[r], vn);
+      values.emplace_back(scene.runs[r].position, std::move(local.positions));
+      positions.push_back(scene.runs[r].position);
+      if (scene.runs[r].normal >= 0) values.emplace_back(scene.runs[r].normal, std::move(local.normals));
+    }
+    bool agree = true;
+    for (const auto& [acc, data] : values) {
+      auto it = written.find(acc);
+      if (it != written.end() && it->second != data) agree = false;
+    }
+    if (agree) {
+      for (auto& [acc, data] : values) {
+        if (written.count(acc)) continue;
+        const bool bounds = std::find(positions.begin(), positions.end(), acc) != positions.end() ||
+                            model.accessors[acc].minValues.size() == 3;
+        store_vec3(model, acc, data, bounds);
+        written.emplace(acc, std::move(data));
+      }
+    } else {
+      std::map<int, const std::vector<Eigen::Vector3f>*> data;
+      for (const auto& [acc, d] : values) data[acc] = &d;
+      split_instance(model, scene.instances[instance].node, data);
+    }
+  }
+  return model;
+}
+
+}  // namespace
+
+namespace {
+
+// A plain model of `mesh`: one buffer, one node, one primitive of triangles (polygons
+// fanned from their first corner) with POSITION and NORMAL.
+tinygltf::Model plain_model(const Mesh& mesh, const NormalTransform& transform) {
+  std::vector<Eigen::Vector3f> p(mesh.num_vertices()), n(mesh.num_vertices());
+  const VertexNormals vn = deformed_normals(mesh, transform);
+  for (std::size_t v = 0; v < p.size(); ++v) {
+    p[v] = mesh.positions().col(v).cast<float>();
+    const Eigen::Vector3d normal = vn.has[v] ? vn.value[v] : Eigen::Vector3d(mesh.normals().col(v));
+    n[v] = normal.cast<float>();
+  }
+  std::vector<std::uint32_t> idx;
+  const MeshElements& el = mesh.elements();
+  for (std::size_t e = 0; e < el.size(); ++e) {
+    if (el.kinds[e] != ElementKind::Polygon) continue;
+    const std::uint32_t* c = el.vertices(e);
+    for (std::uint32_t k = 1; k + 1 < el.degree(e); ++k) idx.insert(idx.end(), {c[0], c[k], c[k + 1]});
+  }
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = "ffdtool";
+  model.buffers.emplace_back();
+  tinygltf::Primitive prim;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  prim.attributes["POSITION"] = append_vec3(model, p);
+  prim.attributes["NORMAL"] = append_vec3(model, n);
+  if (!idx.empty()) {
+    std::vector<unsigned char>& data = model.buffers[0].data;
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = data.size();
+    view.byteLength = 4 * idx.size();
+    view.target = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
+    data.resize(data.size() + view.byteLength);
+    std::memcpy(data.data() + view.byteOffset, idx.data(), view.byteLength);
+    model.bufferViews.push_back(view);
+    tinygltf::Accessor a;
+    a.bufferView = static_cast<int>(model.bufferViews.size() - 1);
+    a.byteOffset = 0;
+    a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    a.count = idx.size();
+    a.type = TINYGLTF_TYPE_SCALAR;
+    model.accessors.push_back(a);
+    prim.indices = static_cast<int>(model.accessors.size() - 1);
+  } else {
+    prim.mode = TINYGLTF_MODE_POINTS;
+  }
+  tinygltf::Mesh m;
+  m.primitives.push_back(prim);
+  model.meshes.push_back(m);
+  tinygltf::Node node;
+  node.mesh = 0;
+  model.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.nodes = {0};
+  model.scenes.push_back(scene);
+  model.defaultScene = 0;
+  return model;
+}
+
+// Reads a whole file written by tinygltf into memory.
+std::vector<unsigned char> slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// A .gltf with external buffers named after `stem`: tinygltf writes them into a private
+// folder, from which the JSON goes to `os` and the buffers to *companions.
+void write_with_companions(std::ostream& os, tinygltf::Model& model, const std::string& stem,
+                           std::vector<CompanionFile>& companions) {
+  for (std::size_t i = 0; i < model.buffers.size(); ++i)
+    model.buffers[i].uri = stem + (i == 0 ? "" : "_" + std::to_string(i)) + ".bin";
+  std::string dir = (std::filesystem::temp_directory_path() / "ffdtool-gltf-XXXXXX").string();
+  if (!::mkdtemp(dir.data())) throw IoError(At{dir}, "cannot make a folder for the glTF buffers");
+  tinygltf::TinyGLTF writer;
+  writer.SetImageWriter(keep_image_reference, nullptr);
+  const std::string main = dir + "/" + stem + ".gltf";
+  const bool ok = writer.WriteGltfSceneToFile(&model, main, false, false, true, false);
+  std::vector<unsigned char> json = slurp(main);
+  for (const tinygltf::Buffer& b : model.buffers) companions.push_back({b.uri, slurp(dir + "/" + b.uri)});
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
+  if (!ok) throw IoError(At{stem + ".gltf"}, "tinygltf could not write the file");
+  os.write(reinterpret_cast<const char*>(json.data()), static_cast<std::streamsize>(json.size()));
+}
+
+}  // namespace
+
+void write_gltf(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal, bool binary,
+                const std::string& stem, std::vector<CompanionFile>* companions) {
+  const GltfScene* scene = mesh.gltf_scene();
+  const bool structured = scene && scene->num_vertices == mesh.num_vertices();
+  tinygltf::Model model = structured ? deformed_model(mesh, *scene, transform_normal) : plain_model(mesh, transform_normal);
+  const bool all_embedded = structured && std::all_of(scene->buffer_embedded.begin(), scene->buffer_embedded.end(),
+                                                      [](bool e) { return e; });
+  if (!binary && companions && !all_embedded) return write_with_companions(os, model, stem, *companions);
+  // The stream writer embeds every buffer (GLB: buffer 0 as the BIN chunk, as it has no uri).
+  for (tinygltf::Buffer& b : model.buffers) b.uri.clear();
+  tinygltf::TinyGLTF writer;
+  writer.SetImageWriter(keep_image_reference, nullptr);
+  if (!writer.WriteGltfSceneToStream(&model, os, !binary, binary))
+    throw IoError("tinygltf could not write the glTF file");
+}
+
+}  // namespace ffd
