@@ -14,6 +14,7 @@
 #include "mesh/mesh_compare.h"
 #include "mesh/mesh_info.h"
 #include "mesh/mesh_io.h"
+#include "pictures.h"
 #include "script/runner.h"
 #include "script/schema.h"
 #include "script/schema_markdown.h"
@@ -27,9 +28,11 @@ int fail(int code, const std::string& message) {
 }
 
 int command_compare(const std::string& a_path, const std::string& b_path, double tolerance,
-                    const std::string& metric, bool as_json) {
+                    const std::string& metric, bool as_json, const std::string& heatmap,
+                    const ffdcli::PictureArgs& picture) {
   const ffd::Mesh a = ffd::read_mesh(a_path);
   const ffd::Mesh b = ffd::read_mesh(b_path);
+  if (!heatmap.empty()) ffdcli::write_heatmap(heatmap, a, b, metric == "hausdorff", tolerance, picture);
   ffd::MeshDifference d;
   if (metric == "vertex") {
     d = ffd::compare_vertices(a, b);
@@ -171,6 +174,9 @@ struct Commands {
   std::string shard, max_memory;
   std::string report_folder;
   bool report_json = false;
+  std::string heatmap;
+  ffdcli::PictureArgs picture;
+  CLI::App *render_cmd = nullptr;
   CLI::App *run_cmd = nullptr, *compare_cmd = nullptr, *info_cmd = nullptr, *validate_cmd = nullptr,
            *schema_cmd = nullptr, *batch_cmd = nullptr, *report_cmd = nullptr;
 };
@@ -238,10 +244,11 @@ int command_report(const std::string& folder, bool as_json) {
 void add_run(CLI::App& app, Commands& c) {
   ffd::RunOptions& run = c.run;
   c.run_cmd = app.add_subcommand("run", "Run a deformation script on a mesh");
-  c.run_cmd->add_option("mesh", run.mesh, "Input mesh (.obj .off .ply .stl)")->required();
+  c.run_cmd->add_option("mesh", run.mesh, "Input mesh (.obj .off .ply .stl .gltf .glb)")->required();
   c.run_cmd->add_option("script", run.script, "JSON deformation script")->required();
   c.run_cmd->add_option("-o,--output", run.output, "Output mesh; its folder receives the script's saves")->required();
   c.run_cmd->add_option("--stats", run.stats, "Write the stats report (JSON) here");
+  c.run_cmd->add_option("--preview", run.preview, "Render the final mesh with every lattice's control net to this PNG");
   c.run_cmd->add_option("--save-dir", run.save_folder, "Folder the script's save paths are relative to (default: OUT's)");
   c.run_cmd->add_flag("--quiet", run.quiet, "No per-step lines on stderr");
   c.run_cmd->add_option("--threads", run.threads, "Threads for evaluation (default: all cores)")
@@ -261,6 +268,9 @@ void add_compare(CLI::App& app, Commands& c) {
       ->check(CLI::IsMember({"vertex", "hausdorff"}))
       ->capture_default_str();
   c.compare_cmd->add_flag("--json", c.compare_json, "Print the result as JSON");
+  c.compare_cmd->add_option("--heatmap", c.heatmap,
+                            "Also draw B coloured by its distance to A (grey within tolerance) to this PNG");
+  ffdcli::add_picture_options(c.compare_cmd, c.picture);
 }
 
 void add_script_commands(CLI::App& app, Commands& c) {
@@ -282,7 +292,8 @@ int dispatch(Commands& c) {
     ffd::run_script(c.run);
     return 0;
   }
-  if (*c.compare_cmd) return command_compare(c.a, c.b, c.tolerance, c.metric, c.compare_json);
+  if (*c.compare_cmd) return command_compare(c.a, c.b, c.tolerance, c.metric, c.compare_json, c.heatmap, c.picture);
+  if (*c.render_cmd) return ffdcli::command_render(c.picture);
   if (*c.info_cmd) return command_info(c.info_path, c.info_json);
   if (*c.validate_cmd) return command_validate(c.validate_path, c.resolved);
   if (c.markdown)
@@ -303,6 +314,7 @@ int main(int argc, char** argv) {
   add_compare(app, commands);
   add_script_commands(app, commands);
   add_batch(app, commands);
+  commands.render_cmd = ffdcli::add_render(app, commands.picture);
 
   try {
     app.parse(argc, argv);

@@ -74,8 +74,9 @@ SurfaceMesh triangle_soup(const Mesh& m) {
   return soup;
 }
 
-// Distances from every vertex of `from` that a polygon uses to the surface `to`.
-void vertex_to_surface(const Mesh& from, const SurfaceMesh& to, double& sum, double& sum2, std::size_t& n) {
+// The distance from every vertex of `from` that a polygon uses to the surface `to`;
+// NaN for the other vertices.
+std::vector<double> distances_to_surface(const Mesh& from, const SurfaceMesh& to) {
   using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
   Tree tree(faces(to).first, faces(to).second, to);
@@ -86,9 +87,16 @@ void vertex_to_surface(const Mesh& from, const SurfaceMesh& to, double& sum, dou
     if (el.kinds[e] == ElementKind::Polygon)
       for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) used[el.corners[c]] = 1;
   const ConstVec3Array p = from.positions();
-  for (std::size_t v = 0; v < used.size(); ++v) {
-    if (!used[v]) continue;
-    const double e = std::sqrt(tree.squared_distance(to_point(p.col(static_cast<Eigen::Index>(v)))));
+  std::vector<double> out(used.size(), std::nan(""));
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) out[v] = std::sqrt(tree.squared_distance(to_point(p.col(static_cast<Eigen::Index>(v)))));
+  return out;
+}
+
+// Sums of the distances from `from`'s used vertices to `to`, and their count.
+void vertex_to_surface(const Mesh& from, const SurfaceMesh& to, double& sum, double& sum2, std::size_t& n) {
+  for (const double e : distances_to_surface(from, to)) {
+    if (std::isnan(e)) continue;
     sum += e;
     sum2 += e * e;
     ++n;
@@ -117,6 +125,17 @@ MeshDifference compare_hausdorff(const Mesh& a, const Mesh& b, double error_boun
   d.rms = n ? std::sqrt(sum2 / n) : 0;
   d.same_connectivity = same_elements(a, b);
   return d;
+}
+
+std::vector<double> vertex_distances(const Mesh& a, const Mesh& b, bool hausdorff) {
+  if (hausdorff) return a.num_faces() ? distances_to_surface(b, triangle_soup(a)) : std::vector<double>();
+  if (a.num_vertices() != b.num_vertices()) return {};
+  std::vector<double> out(b.num_vertices());
+  for (std::size_t v = 0; v < out.size(); ++v) {
+    const auto i = static_cast<Eigen::Index>(v);
+    out[v] = (a.positions().col(i) - b.positions().col(i)).norm();
+  }
+  return out;
 }
 
 }  // namespace ffd

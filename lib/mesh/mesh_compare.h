@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "mesh/mesh.h"
 
@@ -25,5 +26,10 @@ MeshDifference compare_vertices(const Mesh& a, const Mesh& b);
 /// within `error_bound`), for meshes whose connectivity differs; polygon faces are
 /// triangulated on copies. Mean and RMS are over vertex-to-surface distances both ways.
 MeshDifference compare_hausdorff(const Mesh& a, const Mesh& b, double error_bound);
+
+/// Each vertex of `b`'s distance to `a`: |a_i - b_i| for the vertex metric (empty when
+/// the vertex counts differ), else the distance to a's surface (CGAL's AABB tree; NaN
+/// for a vertex no polygon of b uses). What `compare --heatmap` colours.
+std::vector<double> vertex_distances(const Mesh& a, const Mesh& b, bool hausdorff);
 
 }  // namespace ffd

@@ -1,5 +1,7 @@
 // The save op: write the current mesh mid-script.
 #include <algorithm>
+#include <filesystem>
+#include <optional>
 
 #include "remesh/adaptive_remesher.h"
 #include "script/op.h"
@@ -13,8 +15,13 @@ const std::vector<std::pair<std::string, bool>> kColors = {{"mesh", false}, {"le
 struct SaveStep final : Step {
   std::string path;
   bool colors_by_level = false;
+  std::optional<std::string> preview;
 
-  std::vector<OutputFile> outputs() const override { return {{"/path", path}}; }
+  std::vector<OutputFile> outputs() const override {
+    std::vector<OutputFile> out = {{"/path", path}};
+    if (preview) out.push_back({"/preview", *preview});
+    return out;
+  }
   void run(Scene& scene, StepContext& ctx) const override;
 };
 
@@ -26,7 +33,11 @@ KeyTable<SaveStep> save_keys() {
            enum_key<S>("/colors", kColors, "mesh",
                        "mesh: the mesh's own vertex colours, if any; level: each vertex's refinement level as a "
                        "colour (grey = input, blue to red = deeper).",
-                       [](auto& s) -> auto& { return s.colors_by_level; })}};
+                       [](auto& s) -> auto& { return s.colors_by_level; }),
+           key<S>("/preview", schema_text(), nullptr,
+                  "Also renders the mesh with every lattice's control net over it to this PNG (1280 x 960, iso "
+                  "view); relative to the output folder.",
+                  [](auto& s) -> auto& { return s.preview; })}};
 }
 
 void SaveStep::run(Scene& scene, StepContext& ctx) const {
@@ -42,13 +53,18 @@ void SaveStep::run(Scene& scene, StepContext& ctx) const {
   ctx.stats["path"] = path;
   ctx.stats["bytes"] = bytes;
   ctx.summary = "save " + path;
+  if (preview) {
+    ctx.stats["preview"] = *preview;
+    ctx.stats["preview_bytes"] = stage_preview(scene, (std::filesystem::path(scene.output_folder) / *preview).string());
+    ctx.summary += ", preview " + *preview;
+  }
 }
 
 }  // namespace
 
 const OpInfo& save_op() {
   static const OpDecl<SaveStep> op{
-      "save", "Writes the current mesh; the format follows the extension (.obj .off .ply .stl).", save_keys()};
+      "save", "Writes the current mesh; the format follows the extension (.obj .off .ply .stl .gltf .glb).", save_keys()};
   return op;
 }
 

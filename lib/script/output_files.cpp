@@ -1,6 +1,12 @@
 #include "script/output_files.h"
 
+#include <algorithm>
 #include <filesystem>
+
+#include "common/errors.h"
+#include "render/control_net.h"
+#include "render/png_io.h"
+#include "render/render.h"
 
 namespace ffd {
 
@@ -11,6 +17,19 @@ std::size_t stage_mesh(Scene& scene, const std::string& relative, const WriteOpt
 std::size_t stage_mesh_at(Scene& scene, const std::string& path, const WriteOptions& options) {
   std::size_t bytes = 0;
   for (StagedFile& f : stage_mesh_files(path, scene.mesh, options, &bytes)) scene.staged.push_back(std::move(f));
+  return bytes;
+}
+
+std::size_t stage_preview(Scene& scene, const std::string& target) {
+  std::string ext = std::filesystem::path(target).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".png") throw InputError(At{target}, "a preview is a PNG picture: give it the extension .png");
+  std::vector<Overlay> nets;
+  for (const auto& [name, lattice] : scene.lattices) nets.push_back(control_net(*lattice));
+  const Image image = render_mesh(scene.mesh, RenderOptions{}, nullptr, nets);
+  StagedFile staged{std::filesystem::path(target)};
+  const std::size_t bytes = staged.write([&](std::ostream& os) { write_png(os, image); });
+  scene.staged.push_back(std::move(staged));
   return bytes;
 }
 

@@ -45,6 +45,11 @@ void check_outputs(const RunOptions& options, const Script& script, const std::s
     for (const std::string& input : {options.mesh, options.script})
       if (same_file(options.stats, input)) throw InputError(At{options.stats}, "the stats file would overwrite an input");
   }
+  if (!options.preview.empty()) {
+    require_output_folder(options.preview, "preview");
+    for (const std::string& input : {options.mesh, options.script})
+      if (same_file(options.preview, input)) throw InputError(At{options.preview}, "the preview would overwrite an input");
+  }
   for (const auto& step : script.steps)
     for (const OutputFile& file : step->outputs()) {
       const fs::path target = fs::path(output_folder) / file.path;
@@ -55,6 +60,26 @@ void check_outputs(const RunOptions& options, const Script& script, const std::s
       if (same_file(target, options.mesh) || same_file(target, options.script))
         throw InputError(At{where}, "'" + target.string() + "' would overwrite an input file");
     }
+}
+
+// Passes on the glTF reader's notes (skinned, morph-targeted meshes) as warnings;
+// returns whether the mesh came from glTF.
+bool gltf_notes(const RunOptions& options, Scene& scene) {
+  const GltfSummary gltf = gltf_summary(scene.mesh);
+  for (const std::string& note : gltf.notes) {
+    scene.warnings.push_back(options.mesh + ": " + note);
+    if (!options.quiet) std::fprintf(stderr, "  note: %s\n", note.c_str());
+  }
+  return gltf.instances > 0;
+}
+
+// A glTF written after a connectivity change cannot keep its source's structure: says so.
+void warn_if_gltf_flattened(const RunOptions& options, Scene& scene, bool from_gltf) {
+  const MeshFormat format = mesh_format(options.output);
+  if (!from_gltf || scene.mesh.gltf_scene() || (format != MeshFormat::Gltf && format != MeshFormat::Glb)) return;
+  scene.warnings.push_back(options.output + ": the steps changed the connectivity, so it is written as one plain "
+                           "primitive (the source's nodes, materials and attributes other than normals are not kept)");
+  if (!options.quiet) std::fprintf(stderr, "  warning: %s\n", scene.warnings.back().c_str());
 }
 
 std::string ms_text(double ms) {
@@ -151,20 +176,13 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
     std::fprintf(stderr, "ffdtool: %s: %s vertices, %s faces (read in %s)\n", options.mesh.c_str(),
                  format_count(scene.mesh.num_vertices()).c_str(), format_count(scene.mesh.num_faces()).c_str(),
                  ms_text(stats["input"]["read_ms"].get<double>()).c_str());
-  const GltfSummary gltf = gltf_summary(scene.mesh);
-  for (const std::string& note : gltf.notes) scene.warnings.push_back(options.mesh + ": " + note);
-  if (!options.quiet)
-    for (const std::string& note : gltf.notes) std::fprintf(stderr, "  note: %s\n", note.c_str());
+  const bool from_gltf = gltf_notes(options, scene);
   stats["steps"] = run_steps(script, scene, options);
 
-  const MeshFormat out_format = mesh_format(options.output);
-  if (gltf.instances > 0 && !scene.mesh.gltf_scene() && (out_format == MeshFormat::Gltf || out_format == MeshFormat::Glb)) {
-    scene.warnings.push_back(options.output + ": the steps changed the connectivity, so it is written as one plain "
-                             "primitive (the source's nodes, materials and attributes other than normals are not kept)");
-    if (!options.quiet) std::fprintf(stderr, "  warning: %s\n", scene.warnings.back().c_str());
-  }
+  warn_if_gltf_flattened(options, scene, from_gltf);
   Stopwatch write_clock;
   stage_mesh_at(scene, options.output, scene.write_options());
+  if (!options.preview.empty()) stage_preview(scene, options.preview);
   const double write_ms = write_clock.ms();
   double steps_ms = 0;
   for (const auto& s : stats["steps"]) steps_ms += s["ms"].get<double>();

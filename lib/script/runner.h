@@ -15,6 +15,7 @@ struct RunOptions {
   std::string output;  // final mesh file; its folder is the output folder for `save`
   std::string save_folder;  // where `save` paths are relative to, if not the output's folder
   std::string stats;   // stats JSON file, or empty
+  std::string preview;  // PNG of the final mesh with every lattice's control net, or empty
   bool quiet = false;  // no per-step lines on stderr
   int threads = 0;     // 0: OpenMP's default
   /// Progress of the steps on stderr (common/progress.h): Auto is a live line when stderr
