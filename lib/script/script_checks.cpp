@@ -1,5 +1,7 @@
 #include "script/script_checks.h"
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 
 #include "common/errors.h"
@@ -12,10 +14,16 @@ void ScriptChecks::fail(const std::string& pointer, const std::string& what) con
 }
 
 void ScriptChecks::check_output_path(const std::string& path, const std::string& pointer) const {
-  try {
-    mesh_format(path);
-  } catch (const InputError&) {
-    fail(pointer, "'" + path + "' has no mesh extension (.obj, .off, .ply, .stl)");
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const bool picture = pointer.size() >= 8 && pointer.compare(pointer.size() - 8, 8, "/preview") == 0;
+  if (picture && ext != ".png") fail(pointer, "'" + path + "': a preview is a PNG picture (.png)");
+  if (!picture) {
+    try {
+      mesh_format(path);
+    } catch (const InputError&) {
+      fail(pointer, "'" + path + "' has no mesh extension (.obj, .off, .ply, .stl, .gltf, .glb)");
+    }
   }
   const std::filesystem::path p(path);
   for (const auto& part : p)
