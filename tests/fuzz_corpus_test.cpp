@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "fuzz/gltf_input.h"
 #include "fuzz/reader_paths.h"
 #include "fuzz/run_input.h"
 #include "mesh/build_mesh.h"
@@ -54,6 +55,7 @@ TEST(FuzzCorpus, EveryInputIsReadOrRefusedWithAnInputError) {
       {"obj", [](const std::string& bytes) { fuzz::check_obj_paths_agree(bytes), mesh_reader(read_obj)(bytes); }},
       {"off", [](const std::string& bytes) { fuzz::check_off_paths_agree(bytes), mesh_reader(read_off)(bytes); }},
       {"ply", mesh_reader(read_ply)}, {"stl", mesh_reader(read_stl)},
+      {"gltf", [](const std::string& bytes) { fuzz::check_gltf_round_trip(bytes); }},
       {"script", [](const std::string& text) { parse_script(text, "fuzz.json"); }}};
   std::size_t inputs = 0;
   for (const auto& [name, read] : targets)

@@ -200,7 +200,7 @@ void add_batch(CLI::App& app, Commands& c) {
   c.batch_cmd->add_option("--jobs", b.jobs, "Meshes at once (default: one per core)")->check(CLI::PositiveNumber);
   c.batch_cmd->add_option("--shard", c.shard, "I/N: only items whose index is I mod N (default: from SLURM_ARRAY_TASK_ID)");
   c.batch_cmd->add_flag("--resume", b.resume, "Skip meshes done before with the same input and script");
-  c.batch_cmd->add_option("--format", b.format, "Output extension (obj, off, ply, stl; default: the input's)");
+  c.batch_cmd->add_option("--format", b.format, "Output extension (obj, off, ply, stl, gltf, glb; default: the input's)");
   c.batch_cmd->add_flag("--recursive", b.recursive, "Take meshes from the folders' subfolders too");
   c.batch_cmd->add_option("--timeout", b.timeout_s, "Seconds per mesh; past it the mesh fails")->check(CLI::PositiveNumber);
   c.batch_cmd->add_option("--max-memory", c.max_memory, "Memory per mesh (bytes, or with K, M, G); past it the mesh fails");
