@@ -1,7 +1,8 @@
 // glTF 2.0 (.gltf with its buffers, and .glb), read and written with tinygltf.
 //
-// Reading: every mesh primitive of the default scene, in world space (node transforms
-// applied down the hierarchy), becomes vertices and elements of one Mesh: triangles
+// Reading: every mesh primitive of the default scene (scene 0 when none is named; every
+// root node when the file has no scene), in world space (node transforms applied down
+// the hierarchy), becomes vertices and elements of one Mesh: triangles
 // (lists, strips and fans) as polygons, lines and points as OBJ-style line and point
 // elements. POSITION and NORMAL must be float (no quantization, no Draco or meshopt
 // compression: refused by name); sparse accessors are read. TEXCOORD_0 becomes the

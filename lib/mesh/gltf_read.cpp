@@ -18,9 +18,29 @@ namespace ffd {
 
 namespace {
 
-// Images stay as they are in the file: never decoded, written back by reference.
-bool keep_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-                void*) {
+std::string base64(const unsigned char* p, std::size_t n) {
+  static const char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((n + 2) / 3 * 4);
+  for (std::size_t i = 0; i < n; i += 3) {
+    const std::uint32_t v = (std::uint32_t(p[i]) << 16) | (i + 1 < n ? std::uint32_t(p[i + 1]) << 8 : 0) |
+                            (i + 2 < n ? std::uint32_t(p[i + 2]) : 0);
+    out += digits[(v >> 18) & 63];
+    out += digits[(v >> 12) & 63];
+    out += i + 1 < n ? digits[(v >> 6) & 63] : '=';
+    out += i + 2 < n ? digits[v & 63] : '=';
+  }
+  return out;
+}
+
+// Images stay as they are in the file: never decoded, written back by reference. tinygltf
+// keeps the URI of an external image and the bufferView of an embedded one, but a data
+// URI only as its decoded bytes, so that URI is rebuilt from them.
+bool keep_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
+                int size, void*) {
+  if (image->uri.empty() && image->bufferView < 0 && bytes && size > 0)
+    image->uri = "data:" + (image->mimeType.empty() ? std::string("application/octet-stream") : image->mimeType) +
+                 ";base64," + base64(bytes, static_cast<std::size_t>(size));
   return true;
 }
 
@@ -83,6 +103,13 @@ std::vector<GltfInstance> scene_instances(const tinygltf::Model& model, const st
     const int s = model.defaultScene >= 0 && static_cast<std::size_t>(model.defaultScene) < model.scenes.size()
                       ? model.defaultScene : 0;
     roots = model.scenes[s].nodes;
+  } else {  // no scene: every node that is nobody's child, as viewers show such files
+    std::vector<char> child(model.nodes.size(), 0);
+    for (const tinygltf::Node& n : model.nodes)
+      for (int c : n.children)
+        if (c >= 0 && static_cast<std::size_t>(c) < child.size()) child[c] = 1;
+    for (std::size_t i = 0; i < child.size(); ++i)
+      if (!child[i]) roots.push_back(static_cast<int>(i));
   }
   std::vector<GltfInstance> out;
   struct Frame { int node; Eigen::Matrix4d parent; };
@@ -159,12 +186,15 @@ RunTables add_run(tinygltf::Model& model, GltfScene& scene, PolygonSoup& soup, s
 // The primitive's elements: triangles (list, strip, fan) as polygons, lines as polylines,
 // points as one point element.
 void add_elements(PolygonSoup& soup, const GltfRun& run, const RunTables& t, const std::vector<std::uint32_t>& idx,
-                  int mode, std::int32_t group) {
+                  int mode, std::int32_t group, bool mirrored) {
   auto corner = [&](std::uint32_t i) {
     soup.elements.add_corner(run.first + i, t.uv_base < 0 ? -1 : static_cast<std::int32_t>(t.uv_base + i),
                              t.normal_base < 0 ? -1 : static_cast<std::int32_t>(t.normal_base + i));
   };
+  // A node whose matrix mirrors (negative determinant) turns its triangles clockwise
+  // (glTF 2.0 section 3.7.4): in world space their corners run the other way.
   auto triangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    if (mirrored) std::swap(b, c);
     corner(a), corner(b), corner(c);
     soup.elements.close(ElementKind::Polygon, group);
   };
@@ -219,7 +249,8 @@ void read_instances(tinygltf::Model& model, GltfScene& scene, PolygonSoup& soup)
       if (prim.material >= 0 && static_cast<std::size_t>(prim.material) < model.materials.size())
         state.material = model.materials[prim.material].name;
       soup.groups.push_back(state);
-      add_elements(soup, run, it->second, idx, prim.mode, static_cast<std::int32_t>(soup.groups.size() - 1));
+      const bool mirrored = inst.world.topLeftCorner<3, 3>().determinant() < 0;
+      add_elements(soup, run, it->second, idx, prim.mode, static_cast<std::int32_t>(soup.groups.size() - 1), mirrored);
     }
   }
 }
@@ -240,13 +271,15 @@ void add_notes(const tinygltf::Model& model, GltfScene& scene) {
   }
 }
 
+std::string decoded_uri(const std::string& uri);
+
 // Which buffers came from files beside the glTF (a write must not replace them).
 void record_buffers(const tinygltf::Model& model, GltfScene& scene, const std::string& path) {
   const std::filesystem::path base = std::filesystem::absolute(path).parent_path();
   for (const tinygltf::Buffer& b : model.buffers) {
     const bool data_uri = b.uri.rfind("data:", 0) == 0;
     scene.buffer_embedded.push_back(data_uri);
-    if (!b.uri.empty() && !data_uri) scene.buffer_files.push_back((base / b.uri).lexically_normal());
+    if (!b.uri.empty() && !data_uri) scene.buffer_files.push_back((base / decoded_uri(b.uri)).lexically_normal());
   }
 }
 
@@ -281,10 +314,8 @@ bool gltf_reads_file(const GltfScene& scene, const std::filesystem::path& file) 
 
 namespace {
 
-// A URI's path with %XX escapes decoded (RFC 3986), or empty if it is not a plain
-// relative path inside the folder.
-std::string relative_uri_path(const std::string& uri) {
-  if (uri.empty() || uri.rfind("data:", 0) == 0 || uri.find("://") != std::string::npos) return {};
+// A URI's path with %XX escapes decoded (RFC 3986), as tinygltf resolves it.
+std::string decoded_uri(const std::string& uri) {
   std::string out;
   for (std::size_t i = 0; i < uri.size(); ++i) {
     if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
@@ -295,6 +326,13 @@ std::string relative_uri_path(const std::string& uri) {
       out += uri[i];
     }
   }
+  return out;
+}
+
+// A URI's decoded path, or empty if it is not a plain relative path inside the folder.
+std::string relative_uri_path(const std::string& uri) {
+  if (uri.empty() || uri.rfind("data:", 0) == 0 || uri.find("://") != std::string::npos) return {};
+  const std::string out = decoded_uri(uri);
   const std::filesystem::path p(out);
   if (p.is_absolute() || out.find('\0') != std::string::npos) return {};
   for (const auto& part : p.lexically_normal())

@@ -2,13 +2,10 @@
 // a plain one-primitive file for a mesh without a glTF source.
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <sstream>
-#include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include "common/errors.h"
 #include "mesh/gltf_accessors.h"
@@ -56,8 +53,10 @@ struct LocalRun {
   std::vector<Eigen::Vector3f> positions, normals;
 };
 
-LocalRun local_run(const Mesh& mesh, tinygltf::Model& model, const GltfScene& scene, const GltfRun& run,
-                   const VertexNormals& vn) {
+LocalRun local_run(const Mesh& mesh, const GltfScene& scene, const GltfRun& run, const VertexNormals& vn) {
+  // The source's values as read (an earlier instance may have replaced the copy's); the
+  // accessor functions take a mutable model but only read here.
+  tinygltf::Model& model = const_cast<tinygltf::Model&>(scene.model);
   const Eigen::Matrix4d& w = scene.instances[run.instance].world;
   const Eigen::Matrix4d inv = w.inverse();
   const Eigen::Matrix3d wt = w.topLeftCorner<3, 3>().transpose();
@@ -121,7 +120,7 @@ tinygltf::Model deformed_model(const Mesh& mesh, const GltfScene& scene, const N
     std::vector<std::pair<int, std::vector<Eigen::Vector3f>>> values;  // (accessor, data)
     std::vector<int> positions;  // the accessors that are POSITION (min and max required)
     for (; r < scene.runs.size() && scene.runs[r].instance == instance; ++r) {
-      LocalRun local = local_run(mesh, model, scene, scene.runs[r], vn);
+      LocalRun local = local_run(mesh, scene, scene.runs[r], vn);
       values.emplace_back(scene.runs[r].position, std::move(local.positions));
       positions.push_back(scene.runs[r].position);
       if (scene.runs[r].normal >= 0) values.emplace_back(scene.runs[r].normal, std::move(local.normals));
@@ -211,30 +210,33 @@ tinygltf::Model plain_model(const Mesh& mesh, const NormalTransform& transform) 
   return model;
 }
 
-// Reads a whole file written by tinygltf into memory.
-std::vector<unsigned char> slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-// A .gltf with external buffers named after `stem`: tinygltf writes them into a private
-// folder, from which the JSON goes to `os` and the buffers to *companions.
-void write_with_companions(std::ostream& os, tinygltf::Model& model, const std::string& stem,
-                           std::vector<CompanionFile>& companions) {
-  for (std::size_t i = 0; i < model.buffers.size(); ++i)
-    model.buffers[i].uri = stem + (i == 0 ? "" : "_" + std::to_string(i)) + ".bin";
-  std::string dir = (std::filesystem::temp_directory_path() / "ffdtool-gltf-XXXXXX").string();
-  if (!::mkdtemp(dir.data())) throw IoError(At{dir}, "cannot make a folder for the glTF buffers");
+// Serializes `model` as .gltf JSON to `os`. Buffer i is written to a companion file
+// (named after `stem`) when `external[i]`, else embedded as a data URI. tinygltf's own
+// file writer can only do all of one or the other, and drops an external image's
+// mimeType, so its stream output (buffers embedded) is edited here.
+void write_gltf_json(std::ostream& os, tinygltf::Model& model, const std::vector<char>& external,
+                     const std::string& stem, std::vector<CompanionFile>* companions) {
+  std::vector<std::vector<unsigned char>> held(model.buffers.size());
+  for (std::size_t i = 0; i < model.buffers.size(); ++i) {
+    model.buffers[i].uri.clear();
+    if (external[i]) held[i] = std::move(model.buffers[i].data), model.buffers[i].data.clear();
+  }
   tinygltf::TinyGLTF writer;
   writer.SetImageWriter(keep_image_reference, nullptr);
-  const std::string main = dir + "/" + stem + ".gltf";
-  const bool ok = writer.WriteGltfSceneToFile(&model, main, false, false, true, false);
-  std::vector<unsigned char> json = slurp(main);
-  for (const tinygltf::Buffer& b : model.buffers) companions.push_back({b.uri, slurp(dir + "/" + b.uri)});
-  std::error_code ec;
-  std::filesystem::remove_all(dir, ec);
-  if (!ok) throw IoError(At{stem + ".gltf"}, "tinygltf could not write the file");
-  os.write(reinterpret_cast<const char*>(json.data()), static_cast<std::streamsize>(json.size()));
+  std::ostringstream text;
+  if (!writer.WriteGltfSceneToStream(&model, text, false, false)) throw IoError("tinygltf could not write the glTF file");
+  nlohmann::json j = nlohmann::json::parse(text.str());
+  std::size_t files = 0;
+  for (std::size_t i = 0; i < held.size(); ++i) {
+    if (!external[i]) continue;
+    const std::string name = stem + (files++ == 0 ? "" : "_" + std::to_string(files - 1)) + ".bin";
+    j["buffers"][i]["uri"] = name;
+    j["buffers"][i]["byteLength"] = held[i].size();
+    companions->push_back({name, std::move(held[i])});
+  }
+  for (std::size_t i = 0; i < model.images.size(); ++i)
+    if (!model.images[i].mimeType.empty() && !model.images[i].uri.empty()) j["images"][i]["mimeType"] = model.images[i].mimeType;
+  os << j.dump(2) << "\n";
 }
 
 }  // namespace
@@ -244,15 +246,20 @@ void write_gltf(std::ostream& os, const Mesh& mesh, const NormalTransform& trans
   const GltfScene* scene = mesh.gltf_scene();
   const bool structured = scene && scene->num_vertices == mesh.num_vertices();
   tinygltf::Model model = structured ? deformed_model(mesh, *scene, transform_normal) : plain_model(mesh, transform_normal);
-  const bool all_embedded = structured && std::all_of(scene->buffer_embedded.begin(), scene->buffer_embedded.end(),
-                                                      [](bool e) { return e; });
-  if (!binary && companions && !all_embedded) return write_with_companions(os, model, stem, *companions);
-  // The stream writer embeds every buffer (GLB: buffer 0 as the BIN chunk, as it has no uri).
+  if (!binary) {
+    // With companions, the buffers that were files (or that a GLB or another format had
+    // inline) go to files; the source's data-URI buffers stay embedded.
+    std::vector<char> external(model.buffers.size(), 0);
+    for (std::size_t i = 0; companions && i < external.size(); ++i)
+      external[i] = !(structured && i < scene->buffer_embedded.size() && scene->buffer_embedded[i]);
+    return write_gltf_json(os, model, external, stem, companions);
+  }
+  // The stream writer embeds every buffer: buffer 0 as the BIN chunk (it has no uri), the
+  // others as data URIs.
   for (tinygltf::Buffer& b : model.buffers) b.uri.clear();
   tinygltf::TinyGLTF writer;
   writer.SetImageWriter(keep_image_reference, nullptr);
-  if (!writer.WriteGltfSceneToStream(&model, os, !binary, binary))
-    throw IoError("tinygltf could not write the glTF file");
+  if (!writer.WriteGltfSceneToStream(&model, os, false, true)) throw IoError("tinygltf could not write the glTF file");
 }
 
 }  // namespace ffd
