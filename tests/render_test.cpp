@@ -128,7 +128,7 @@ TEST(Render, MatchesTheCheckedInBunnyWithinAFewLevels) {
   EXPECT_LT(sum / im.rgb.size(), 1.5);
 }
 
-TEST(Render, CgalMeshesRender) {
+TEST(Render, CgalMeshesRenderAndSurviveAGlbRoundTrip) {
   const std::string tarball = "/usr/share/doc/libcgal-dev/data.tar.gz";
   if (!std::filesystem::exists(tarball)) GTEST_SKIP() << "libcgal-demo is not installed";
   const std::string dir = test::temp_folder("render_cgal");
@@ -138,8 +138,22 @@ TEST(Render, CgalMeshesRender) {
   for (const char* name : {"elephant.off", "pig.stl", "cube.off"}) {
     RenderOptions o;
     set_size(o, "200x150");
-    const Image im = render_mesh(read_mesh(dir + "/data/meshes/" + name), o);
+    const Mesh mesh = read_mesh(dir + "/data/meshes/" + name);
+    const Image im = render_mesh(mesh, o);
     EXPECT_GT(covered_fraction(im), 0.1) << name;
+    // The same mesh through a GLB: float32 positions, the same triangles, the same picture
+    // but for a few pixels on silhouettes.
+    const std::string glb = dir + "/" + name + ".glb";
+    write_mesh(glb, mesh);
+    const Mesh back = read_mesh(glb);
+    ASSERT_EQ(back.num_vertices(), mesh.num_vertices()) << name;
+    EXPECT_EQ(back.faces(), mesh.faces()) << name;
+    const double scale = mesh.positions().cwiseAbs().maxCoeff();
+    EXPECT_LE((back.positions() - mesh.positions()).cwiseAbs().maxCoeff(), 1e-7 * scale) << name;
+    const Image again = render_mesh(back, o);
+    std::size_t off = 0;
+    for (std::size_t i = 0; i < im.rgb.size(); ++i) off += std::abs(int(im.rgb[i]) - int(again.rgb[i])) > 24;
+    EXPECT_LT(double(off) / im.rgb.size(), 0.01) << name;
   }
 }
 
