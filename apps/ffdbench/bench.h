@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mesh/mesh.h"
+#include "mesh/soup.h"
 
 namespace ffd::bench {
 
@@ -43,6 +45,25 @@ Mesh load(const Context& ctx, const std::string& name);
 /// (CGAL's Subdivision_method_3), with rest = current positions and fresh normals.
 Mesh subdivided(const Mesh& mesh, std::size_t min_vertices);
 
+/// A height field on an n × n grid over [0,1]² (n² vertices, two triangles a cell), z a
+/// few smooth bumps; every coordinate rounded to 6 decimals (as float exporters write
+/// them). The io and pictures suites' grid mesh.
+PolygonSoup height_field(int n);
+
+/// MB/s (MB = 10^6 bytes) of `bytes` in `ms`.
+double mb_per_s(double bytes, double ms);
+
+/// Where a suite keeps its files: temp_directory_path()/ffdbench-SUITE-PID, removed with
+/// everything in it when the suite ends (also on an exception).
+struct TempFolder {
+  std::filesystem::path path;
+  explicit TempFolder(const std::string& suite);
+  ~TempFolder();
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+  std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
 /// The bcm suites' regions on a mesh: the support is the `support_size` vertices nearest
 /// to the vertex farthest from the centroid (a geodesic-like cap over most of the
 /// model), the handle the nearest `handle_size` of them; everything else is fixed.
@@ -58,5 +79,6 @@ void bench_remesh(Context& ctx);
 void bench_bcm(Context& ctx);
 void bench_cholesky(Context& ctx);
 void bench_io(Context& ctx);
+void bench_pictures(Context& ctx);
 
 }  // namespace ffd::bench

@@ -86,31 +86,6 @@ double median(std::vector<double> values) {
   return values.empty() ? 0 : values[values.size() / 2];
 }
 
-/// x rounded to 6 decimals, as float exporters (Blender's) write coordinates.
-double round6(double x) { return std::round(x * 1e6) / 1e6; }
-
-/// A height field on an n × n grid over [0,1]² (n² vertices, two triangles a cell), z a
-/// few smooth bumps; every coordinate rounded to 6 decimals.
-PolygonSoup height_field(int n) {
-  PolygonSoup soup;
-  soup.positions.reserve(static_cast<std::size_t>(n) * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const double x = double(i) / (n - 1), y = double(j) / (n - 1);
-      const double z = 0.08 * std::sin(2 * M_PI * x) * std::cos(2 * M_PI * y) +
-                       0.03 * std::sin(7 * x + 1) * std::cos(5 * y + 0.5);
-      soup.positions.emplace_back(round6(x), round6(y), round6(z));
-    }
-  soup.elements.reserve(2 * static_cast<std::size_t>(n - 1) * (n - 1), 3);
-  for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) {
-      const std::uint32_t a = j * n + i, b = a + 1, c = a + n, d = c + 1;
-      soup.elements.add_polygon({a, b, d});
-      soup.elements.add_polygon({a, d, c});
-    }
-  return soup;
-}
-
 /// Median ms over `repeats` (after one warm-up run, as median_ms) of build_mesh on a
 /// copy of `soup` (the copy not timed): the step every reader ends with, the same for
 /// every format.
@@ -222,25 +197,10 @@ void read_baselines(const std::string& path, std::size_t bytes, int repeats, dou
   });
 }
 
-/// Where the suite keeps its files: temp_directory_path()/ffdbench-io-PID, removed with
-/// everything in it when the suite ends (also on an exception).
-struct TempFolder {
-  fs::path path = fs::temp_directory_path() / ("ffdbench-io-" + std::to_string(::getpid()));
-  TempFolder() { fs::create_directories(path); }
-  ~TempFolder() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
-};
-
 /// The grid's file for format `f` in `dir`.
 std::string grid_file(const TempFolder& dir, const Format& f, std::size_t vertices) {
   return dir.file("grid-" + std::to_string(vertices) + "-" + f.name + f.ext);
 }
-
-/// MB/s (MB = 10^6 bytes) of `bytes` in `ms`.
-double mb_per_s(double bytes, double ms) { return bytes / 1e3 / ms; }
 
 /// One files row: writes the grid in format `f` (timed when ffdtool writes it), then
 /// times read_mesh and the read(2) baselines of the same file; medians over `repeats`.
@@ -530,7 +490,7 @@ void bench_io(Context& ctx) {
   const std::string ffdtool = ffdtool_path(ctx.ffdtool);
   const std::string blender = blender_path(ctx.blender);
   if (blender.empty()) std::fprintf(stderr, "ffdbench: io: no blender on PATH (%s)\n", kNoBlender);
-  const TempFolder dir;
+  const TempFolder dir("io");
   json files = json::array(), runs = json::array(), jobs = json::array();
   std::map<std::string, json> largest;  // format -> its files row at the largest size
   Mesh mesh;

@@ -2,7 +2,10 @@
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Subdivision_method_3/subdivision_methods_3.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "bench.h"
@@ -38,6 +41,45 @@ Mesh subdivided(const Mesh& mesh, std::size_t min_vertices) {
   while (sm.number_of_vertices() < min_vertices)
     CGAL::Subdivision_method_3::Loop_subdivision(sm, CGAL::parameters::number_of_iterations(1));
   return mesh_from_surface(sm, mesh.source());
+}
+
+namespace {
+
+/// x rounded to 6 decimals, as float exporters (Blender's) write coordinates.
+double round6(double x) { return std::round(x * 1e6) / 1e6; }
+
+}  // namespace
+
+PolygonSoup height_field(int n) {
+  PolygonSoup soup;
+  soup.positions.reserve(static_cast<std::size_t>(n) * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = double(i) / (n - 1), y = double(j) / (n - 1);
+      const double z = 0.08 * std::sin(2 * M_PI * x) * std::cos(2 * M_PI * y) +
+                       0.03 * std::sin(7 * x + 1) * std::cos(5 * y + 0.5);
+      soup.positions.emplace_back(round6(x), round6(y), round6(z));
+    }
+  soup.elements.reserve(2 * static_cast<std::size_t>(n - 1) * (n - 1), 3);
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const std::uint32_t a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+      soup.elements.add_polygon({a, b, d});
+      soup.elements.add_polygon({a, d, c});
+    }
+  return soup;
+}
+
+double mb_per_s(double bytes, double ms) { return bytes / 1e3 / ms; }
+
+TempFolder::TempFolder(const std::string& suite)
+    : path(std::filesystem::temp_directory_path() / ("ffdbench-" + suite + "-" + std::to_string(::getpid()))) {
+  std::filesystem::create_directories(path);
+}
+
+TempFolder::~TempFolder() {
+  std::error_code ec;
+  std::filesystem::remove_all(path, ec);
 }
 
 }  // namespace ffd::bench

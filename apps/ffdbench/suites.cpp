@@ -10,6 +10,8 @@ const std::vector<Suite>& suites() {
       {"cholesky", "the bcm k = 3 numeric factorization: lib/bcm's supernodal Cholesky against CHOLMOD's with the system BLAS",
        bench_cholesky},
       {"io", "mesh file reading and writing per format, the end-to-end run against Blender", bench_io},
+      {"pictures", "glTF read/write MB/s against binary PLY; render_mesh and write_png against a z-buffer fill and a mesh read",
+       bench_pictures},
   };
   return all;
 }
