@@ -157,6 +157,24 @@ TEST(Render, CgalMeshesRenderAndSurviveAGlbRoundTrip) {
   }
 }
 
+// --color level: a mesh read from a file keeps no levels, but a save with "colors":
+// "level" wrote them as vertex colours, which are drawn; a mesh with neither is grey.
+TEST(Render, LevelColoursComeFromTheFilesColoursWhenTheMeshHasNoLevels) {
+  Mesh mesh = test::bunny();
+  RenderOptions o;
+  set_size(o, "160x120");
+  o.color = ColorMode::Level;
+  auto coloured = [](const Image& im) {
+    std::size_t n = 0;
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x) n += im.at(x, y).r != im.at(x, y).b;
+    return n;
+  };
+  EXPECT_EQ(coloured(render_mesh(mesh, o)), 0u);
+  mesh.colors().assign(mesh.num_vertices(), Eigen::Vector3f(0.9f, 0.2f, 0.1f));
+  EXPECT_GT(coloured(render_mesh(mesh, o)), 1000u);
+}
+
 TEST(Render, ControlNetIsDrawnOverTheMesh) {
   const Mesh mesh = test::bunny();
   std::vector<std::uint32_t> all(mesh.num_vertices());

@@ -54,7 +54,7 @@ CLI::App* add_render(CLI::App& app, PictureArgs& args) {
   cmd->add_option("mesh", args.mesh, "Mesh file")->required();
   cmd->add_option("-o,--output", args.output, "PNG file")->required();
   add_picture_options(cmd, args);
-  cmd->add_option("--color", args.color, "shade: grey; normals: normal as RGB; level: refinement level")
+  cmd->add_option("--color", args.color, "shade: grey; normals: normal as RGB; level: refinement level (a file's vertex colours, as save writes levels)")
       ->check(CLI::IsMember({"shade", "normals", "level"}))
       ->capture_default_str();
   cmd->add_option("--camera", args.camera, "ortho or perspective (30 degree field), fitted to the mesh")

@@ -370,10 +370,14 @@ Image render_mesh(const Mesh& mesh, const RenderOptions& o, const std::vector<Ei
   in.screen = &screen;
   std::vector<Eigen::Vector3f> levels;
   if (!vertex_colors && o.color == ColorMode::Level) {
-    int top = 0;
-    for (int level : vertex_levels(mesh)) top = std::max(top, level);
-    levels = level_colors(mesh, top);
-    vertex_colors = &levels;
+    if (mesh.vertex_levels().empty() && mesh.has_colors()) {
+      vertex_colors = &mesh.colors();  // a file saved with "colors": "level" holds them as colours
+    } else {
+      int top = 1;  // as save's level colours: level 1 is the first colour past grey
+      for (int level : vertex_levels(mesh)) top = std::max(top, level);
+      levels = level_colors(mesh, top);
+      vertex_colors = &levels;
+    }
   }
   in.colors = vertex_colors && vertex_colors->size() == n ? vertex_colors : nullptr;
   Image image(o.width, o.height, o.background);

@@ -26,7 +26,9 @@
 namespace ffd {
 
 /// What colours the mesh: grey (shade), the view-space normal as RGB (normals), each
-/// vertex's refinement level (level, the save op's level colours), or given vertex colours.
+/// vertex's refinement level (level: the save op's level colours; for a mesh read from a
+/// file, which keeps no levels, its vertex colours, which such a save wrote), or given
+/// vertex colours.
 enum class ColorMode { Shade, Normals, Level };
 
 struct RenderOptions {
