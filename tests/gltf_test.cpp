@@ -1256,3 +1256,31 @@ TEST(GltfRead, AMirroredNodesTrianglesStillFaceOutward) {
 
 }  // namespace
 }  // namespace ffd
+
+namespace ffd {
+namespace {
+
+// A node scaled to zero (a hidden part of a rig) has no inverse: it is read flat, its
+// normals are kept finite, and it is written back as it was while the rest deforms.
+TEST(GltfRun, ANodeScaledToZeroIsWrittenBackAsItWas) {
+  const std::string dir = temp_folder("gltf_zero_scale"), out = temp_folder("gltf_zero_scale_out");
+  const std::string input = edited_gltf("zero.gltf", [](json& j) { j["nodes"][0]["scale"] = {0, 0, 0}; })(dir);
+  const Mesh mesh = read_mesh(input);
+  EXPECT_TRUE(mesh.normals().allFinite());
+  EXPECT_TRUE(mesh.positions().allFinite());
+  write_file(dir + "/move.json", script({kLattice, kMove}));
+  std::string err;
+  ASSERT_EQ(run_ffd(input, dir + "/move.json", out + "/out.glb", &err), 0) << err;
+  const tinygltf::Model in = load(input), written = load(out + "/out.glb");
+  const tinygltf::Primitive& nose = written.meshes.at(written.nodes.at(0).mesh).primitives.at(0);
+  const tinygltf::Primitive& source = in.meshes.at(in.nodes.at(0).mesh).primitives.at(0);
+  for (const char* attribute : {"POSITION", "NORMAL"}) {
+    const std::vector<float> a = accessor_floats(in, source.attributes.at(attribute));
+    const std::vector<float> b = accessor_floats(written, nose.attributes.at(attribute));
+    EXPECT_EQ(a, b) << attribute;
+    for (float x : b) EXPECT_TRUE(std::isfinite(x)) << attribute;
+  }
+}
+
+}  // namespace
+}  // namespace ffd

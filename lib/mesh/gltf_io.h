@@ -12,7 +12,8 @@
 // deformed where it is in world space; a POSITION accessor that two primitives of one
 // node share is one set of vertices. A skinned mesh is deformed in its bind pose (the
 // positions as stored: glTF ignores a skinned node's transform), a morph-targeted mesh
-// in its base shape (the targets' offsets are kept); the scene's notes say so.
+// in its base shape (the targets' offsets are kept); the scene's notes say so. A node
+// scaled to zero (no inverse) is read flat and written back as it was.
 //
 // Writing keeps the file's structure: nodes, meshes, primitives, materials, textures,
 // images, samplers, animations, skins, extensions and extras untouched. POSITION and

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -166,7 +167,11 @@ RunTables add_run(tinygltf::Model& model, GltfScene& scene, PolygonSoup& soup, s
   if (t_it != prim.attributes.end()) uv = read_vec2(model, t_it->second, "TEXCOORD_0 of " + what);
   if (soup.positions.size() + p.size() > 0xffffffffu) throw InputError("more than 2^32 - 1 vertices");
   const Eigen::Matrix4d& w = scene.instances[instance].world;
-  const Eigen::Matrix3d normal_matrix = w.topLeftCorner<3, 3>().inverse().transpose();
+  // A node scaled to zero (a hidden part of a rig) flattens its vertices to a point; its
+  // normals are kept as they are rather than divided by zero.
+  const double det = w.topLeftCorner<3, 3>().determinant();
+  const Eigen::Matrix3d normal_matrix = std::isfinite(det) && det != 0 ? Eigen::Matrix3d(w.topLeftCorner<3, 3>().inverse().transpose())
+                                                                         : Eigen::Matrix3d::Identity();
   RunTables t;
   t.run = scene.runs.size();
   scene.runs.push_back({instance, pos, nrm, static_cast<std::uint32_t>(soup.positions.size()),

@@ -2,6 +2,7 @@
 // a plain one-primitive file for a mesh without a glTF source.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <sstream>
@@ -62,13 +63,15 @@ LocalRun local_run(const Mesh& mesh, const GltfScene& scene, const GltfRun& run,
   const Eigen::Matrix3d wt = w.topLeftCorner<3, 3>().transpose();
   LocalRun out;
   out.positions = read_vec3(model, run.position, "POSITION");
+  if (run.normal >= 0) out.normals = read_vec3(model, run.normal, "NORMAL");
+  const double det = w.topLeftCorner<3, 3>().determinant();
+  if (!std::isfinite(det) || det == 0) return out;  // a node scaled to zero: no local space to go back to
   for (std::uint32_t i = 0; i < run.count; ++i) {
     const Eigen::Vector3d p = mesh.positions().col(run.first + i);
     const Eigen::Vector3d read = (w * out.positions[i].cast<double>().homogeneous()).head<3>();
     if (p != read) out.positions[i] = (inv * p.homogeneous()).head<3>().cast<float>();
   }
   if (run.normal < 0) return out;
-  out.normals = read_vec3(model, run.normal, "NORMAL");
   for (std::uint32_t i = 0; i < run.count; ++i) {
     const std::uint32_t v = run.first + i;
     if (vn.has[v] && vn.moved[v]) out.normals[i] = (wt * vn.value[v]).normalized().cast<float>();
