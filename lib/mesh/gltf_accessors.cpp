@@ -171,27 +171,34 @@ void write_vec3(tinygltf::Model& model, int index, const std::vector<Eigen::Vect
   for (std::size_t i = 0; i < span.count; ++i) std::memcpy(span.data + i * span.stride, values[i].data(), 12);
 }
 
-int append_vec3(tinygltf::Model& model, const std::vector<Eigen::Vector3f>& values) {
+int append_accessor(tinygltf::Model& model, const void* data, std::size_t bytes, int component_type, int type,
+                    std::size_t count, int target) {
   if (model.buffers.empty()) model.buffers.emplace_back();
-  std::vector<unsigned char>& data = model.buffers[0].data;
-  data.resize((data.size() + 3) / 4 * 4, 0);
+  std::vector<unsigned char>& buffer = model.buffers[0].data;
+  buffer.resize((buffer.size() + 3) / 4 * 4, 0);
   tinygltf::BufferView view;
   view.buffer = 0;
-  view.byteOffset = data.size();
-  view.byteLength = 12 * values.size();
-  view.target = TINYGLTF_TARGET_ARRAY_BUFFER;
-  data.resize(data.size() + view.byteLength);
-  if (!values.empty()) std::memcpy(data.data() + view.byteOffset, values.data(), view.byteLength);
+  view.byteOffset = buffer.size();
+  view.byteLength = bytes;
+  view.target = target;
+  buffer.resize(buffer.size() + bytes);
+  if (bytes) std::memcpy(buffer.data() + view.byteOffset, data, bytes);
   model.bufferViews.push_back(view);
   tinygltf::Accessor accessor;
   accessor.bufferView = static_cast<int>(model.bufferViews.size() - 1);
   accessor.byteOffset = 0;
-  accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  accessor.count = values.size();
-  accessor.type = TINYGLTF_TYPE_VEC3;
-  set_bounds(accessor, values);
+  accessor.componentType = component_type;
+  accessor.count = count;
+  accessor.type = type;
   model.accessors.push_back(accessor);
   return static_cast<int>(model.accessors.size() - 1);
+}
+
+int append_vec3(tinygltf::Model& model, const std::vector<Eigen::Vector3f>& values) {
+  const int index = append_accessor(model, values.data(), 12 * values.size(), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                    TINYGLTF_TYPE_VEC3, values.size(), TINYGLTF_TARGET_ARRAY_BUFFER);
+  set_bounds(model.accessors[index], values);
+  return index;
 }
 
 void set_bounds(tinygltf::Accessor& accessor, const std::vector<Eigen::Vector3f>& values) {

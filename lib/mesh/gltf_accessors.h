@@ -35,8 +35,12 @@ std::vector<std::uint32_t> read_indices(tinygltf::Model& model, int index, std::
 /// Overwrites a dense float VEC3 accessor's values in their buffer (strides kept).
 /// \pre the accessor is not sparse, has a bufferView and values.size() == count.
 void write_vec3(tinygltf::Model& model, int index, const std::vector<Eigen::Vector3f>& values);
-/// Appends `values` to buffer 0 (4-byte aligned) as a new bufferView and a new float VEC3
-/// accessor; returns the accessor's index.
+/// Appends `bytes` bytes at `data` to buffer 0 (4-byte aligned) as a new bufferView
+/// (`target`: TINYGLTF_TARGET_*) and a new accessor of `count` elements of `type`
+/// (TINYGLTF_TYPE_*) and `component_type`; returns the accessor's index.
+int append_accessor(tinygltf::Model& model, const void* data, std::size_t bytes, int component_type, int type,
+                    std::size_t count, int target);
+/// append_accessor of float VEC3 values, with min and max set.
 int append_vec3(tinygltf::Model& model, const std::vector<Eigen::Vector3f>& values);
 /// Sets a VEC3 accessor's min and max to those of `values` (POSITION needs them).
 void set_bounds(tinygltf::Accessor& accessor, const std::vector<Eigen::Vector3f>& values);

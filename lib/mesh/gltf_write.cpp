@@ -174,29 +174,13 @@ tinygltf::Model plain_model(const Mesh& mesh, const NormalTransform& transform) 
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "ffdtool";
-  model.buffers.emplace_back();
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
   prim.attributes["POSITION"] = append_vec3(model, p);
   prim.attributes["NORMAL"] = append_vec3(model, n);
   if (!idx.empty()) {
-    std::vector<unsigned char>& data = model.buffers[0].data;
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = data.size();
-    view.byteLength = 4 * idx.size();
-    view.target = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
-    data.resize(data.size() + view.byteLength);
-    std::memcpy(data.data() + view.byteOffset, idx.data(), view.byteLength);
-    model.bufferViews.push_back(view);
-    tinygltf::Accessor a;
-    a.bufferView = static_cast<int>(model.bufferViews.size() - 1);
-    a.byteOffset = 0;
-    a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-    a.count = idx.size();
-    a.type = TINYGLTF_TYPE_SCALAR;
-    model.accessors.push_back(a);
-    prim.indices = static_cast<int>(model.accessors.size() - 1);
+    prim.indices = append_accessor(model, idx.data(), 4 * idx.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                                   TINYGLTF_TYPE_SCALAR, idx.size(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
   } else {
     prim.mode = TINYGLTF_MODE_POINTS;
   }
