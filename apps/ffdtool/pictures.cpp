@@ -32,9 +32,7 @@ ffd::RenderOptions render_options(const PictureArgs& args) {
 
 // Checks `path` is a .png in an existing folder, before any work.
 void check_png_path(const std::string& path, const char* what) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext != ".png") throw ffd::InputError(ffd::At{path}, std::string(what) + " is written as PNG: give it the extension .png");
+  if (!ffd::has_png_extension(path)) throw ffd::InputError(ffd::At{path}, std::string(what) + " is written as PNG: give it the extension .png");
   ffd::require_output_folder(path, what);
 }
 

@@ -54,4 +54,22 @@ void bake_file_normals(Mesh& mesh, const NormalTransform& transform) {
   for (std::size_t c = 0; c < corner.size(); ++c) corner[c] = static_cast<std::int32_t>(baked.corner[c]);
 }
 
+VertexFileNormals vertex_file_normals(const Mesh& mesh, const NormalTransform& transform) {
+  const MeshElements& el = mesh.elements();
+  VertexFileNormals out;
+  out.value.assign(mesh.num_vertices(), Eigen::Vector3d::Zero());
+  out.has.assign(mesh.num_vertices(), 0);
+  out.moved.assign(mesh.num_vertices(), 0);
+  if (el.corner_normals.empty()) return out;
+  for (std::size_t c = 0; c < el.corners.size(); ++c) {
+    const std::uint32_t v = el.corners[c];
+    if (out.has[v] || el.corner_normals[c] < 0) continue;
+    const Eigen::Vector3d n = mesh.file_normals()[el.corner_normals[c]];
+    out.value[v] = transform ? transform(v, n) : n;
+    out.moved[v] = out.value[v] != n;
+    out.has[v] = 1;
+  }
+  return out;
+}
+
 }  // namespace ffd

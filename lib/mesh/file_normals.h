@@ -26,6 +26,15 @@ struct CornerNormals {
 /// unreferenced entries are kept as they are. A null transform keeps the table.
 CornerNormals transformed_file_normals(const Mesh& mesh, const NormalTransform& transform);
 
+/// One normal per vertex for formats that hold them so (OFF, PLY, glTF): each vertex's
+/// file normal from its first corner that has one, carried into deformed space.
+struct VertexFileNormals {
+  std::vector<Eigen::Vector3d> value;  // zero where `has` is not set
+  std::vector<char> has;               // the vertex has a file normal
+  std::vector<char> moved;             // the transform changed it
+};
+VertexFileNormals vertex_file_normals(const Mesh& mesh, const NormalTransform& transform);
+
 /// Replaces the mesh's file normals by their transformed values (a bake).
 void bake_file_normals(Mesh& mesh, const NormalTransform& transform);
 

@@ -23,38 +23,13 @@ bool keep_image_reference(const std::string*, const std::string*, const tinygltf
   return false;
 }
 
-// Each vertex's deformed world normal from its corners' file normals; `has` marks the
-// vertices that have one, `moved` those whose normal the transform changed.
-struct VertexNormals {
-  std::vector<Eigen::Vector3d> value;
-  std::vector<char> has, moved;
-};
-
-VertexNormals deformed_normals(const Mesh& mesh, const NormalTransform& transform) {
-  const MeshElements& el = mesh.elements();
-  VertexNormals out;
-  out.value.assign(mesh.num_vertices(), Eigen::Vector3d::Zero());
-  out.has.assign(mesh.num_vertices(), 0);
-  out.moved.assign(mesh.num_vertices(), 0);
-  if (el.corner_normals.empty()) return out;
-  for (std::size_t c = 0; c < el.corners.size(); ++c) {
-    const std::uint32_t v = el.corners[c];
-    if (out.has[v] || el.corner_normals[c] < 0) continue;
-    const Eigen::Vector3d n = mesh.file_normals()[el.corner_normals[c]];
-    out.value[v] = transform ? transform(v, n) : n;
-    out.moved[v] = out.value[v] != n;
-    out.has[v] = 1;
-  }
-  return out;
-}
-
 // One run's data in its node's local space. A vertex the deformation left where the
 // reader put it keeps the file's float bits exactly.
 struct LocalRun {
   std::vector<Eigen::Vector3f> positions, normals;
 };
 
-LocalRun local_run(const Mesh& mesh, const GltfScene& scene, const GltfRun& run, const VertexNormals& vn) {
+LocalRun local_run(const Mesh& mesh, const GltfScene& scene, const GltfRun& run, const VertexFileNormals& vn) {
   // The source's values as read (an earlier instance may have replaced the copy's); the
   // accessor functions take a mutable model but only read here.
   tinygltf::Model& model = const_cast<tinygltf::Model&>(scene.model);
@@ -115,7 +90,7 @@ void split_instance(tinygltf::Model& model, int node, const std::map<int, const 
 // The source model with every run's positions and normals replaced (gltf_io.h).
 tinygltf::Model deformed_model(const Mesh& mesh, const GltfScene& scene, const NormalTransform& transform) {
   tinygltf::Model model = scene.model;
-  const VertexNormals vn = deformed_normals(mesh, transform);
+  const VertexFileNormals vn = vertex_file_normals(mesh, transform);
   std::map<int, std::vector<Eigen::Vector3f>> written;  // accessor -> values stored
   std::size_t r = 0;
   while (r < scene.runs.size()) {
@@ -158,19 +133,13 @@ namespace {
 // fanned from their first corner) with POSITION and NORMAL.
 tinygltf::Model plain_model(const Mesh& mesh, const NormalTransform& transform) {
   std::vector<Eigen::Vector3f> p(mesh.num_vertices()), n(mesh.num_vertices());
-  const VertexNormals vn = deformed_normals(mesh, transform);
+  const VertexFileNormals vn = vertex_file_normals(mesh, transform);
   for (std::size_t v = 0; v < p.size(); ++v) {
     p[v] = mesh.positions().col(v).cast<float>();
     const Eigen::Vector3d normal = vn.has[v] ? vn.value[v] : Eigen::Vector3d(mesh.normals().col(v));
     n[v] = normal.cast<float>();
   }
-  std::vector<std::uint32_t> idx;
-  const MeshElements& el = mesh.elements();
-  for (std::size_t e = 0; e < el.size(); ++e) {
-    if (el.kinds[e] != ElementKind::Polygon) continue;
-    const std::uint32_t* c = el.vertices(e);
-    for (std::uint32_t k = 1; k + 1 < el.degree(e); ++k) idx.insert(idx.end(), {c[0], c[k], c[k + 1]});
-  }
+  const std::vector<std::array<std::uint32_t, 3>> tris = fan_triangles(mesh.elements());
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "ffdtool";
@@ -178,9 +147,9 @@ tinygltf::Model plain_model(const Mesh& mesh, const NormalTransform& transform) 
   prim.mode = TINYGLTF_MODE_TRIANGLES;
   prim.attributes["POSITION"] = append_vec3(model, p);
   prim.attributes["NORMAL"] = append_vec3(model, n);
-  if (!idx.empty()) {
-    prim.indices = append_accessor(model, idx.data(), 4 * idx.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                                   TINYGLTF_TYPE_SCALAR, idx.size(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  if (!tris.empty()) {
+    prim.indices = append_accessor(model, tris.data(), 12 * tris.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                                   TINYGLTF_TYPE_SCALAR, 3 * tris.size(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
   } else {
     prim.mode = TINYGLTF_MODE_POINTS;
   }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <initializer_list>
 #include <string>
@@ -111,5 +112,18 @@ struct MeshElements {
 /// "file:line" when element e's line is known, else "file: face N" (N counts polygons
 /// only when every element is one; else "element N"), for messages.
 std::string element_place(const std::string& file, const MeshElements& elements, std::size_t e);
+
+/// The polygons as triangles, each fanned from its first corner, in element order (what
+/// the glTF writer and the renderer take); lines and points are left out.
+inline std::vector<std::array<std::uint32_t, 3>> fan_triangles(const MeshElements& el) {
+  std::vector<std::array<std::uint32_t, 3>> out;
+  out.reserve(el.corners.size() / 3);
+  for (std::size_t e = 0; e < el.size(); ++e) {
+    if (el.kinds[e] != ElementKind::Polygon) continue;
+    const std::uint32_t* c = el.vertices(e);
+    for (std::uint32_t k = 1; k + 1 < el.degree(e); ++k) out.push_back({c[0], c[k], c[k + 1]});
+  }
+  return out;
+}
 
 }  // namespace ffd

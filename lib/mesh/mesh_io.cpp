@@ -88,24 +88,22 @@ FileBytes read_bytes(const std::string& path) {
 }
 
 // Per-vertex normals for formats that hold one normal per vertex: each vertex's file
-// normal (from its first corner that has one) carried into deformed space; vertices
-// without a file normal get their current normal.
+// normal carried into deformed space (vertex_file_normals); vertices without a file
+// normal get their current normal.
 Eigen::Matrix3Xd per_vertex_normals(const Mesh& mesh, const NormalTransform& transform) {
-  const MeshElements& el = mesh.elements();
   Eigen::Matrix3Xd out = mesh.normals();
-  if (el.corner_normals.empty()) return out;
-  std::vector<char> done(mesh.num_vertices(), 0);
-  for (std::size_t e = 0; e < el.size(); ++e) {
-    if (el.kinds[e] != ElementKind::Polygon) continue;
-    for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) {
-      const std::uint32_t v = el.corners[c];
-      if (done[v] || el.corner_normals[c] < 0) continue;
-      const Eigen::Vector3d n = mesh.file_normals()[el.corner_normals[c]];
-      out.col(v) = transform ? transform(v, n) : n;
-      done[v] = 1;
-    }
-  }
+  const VertexFileNormals file = vertex_file_normals(mesh, transform);
+  for (std::size_t v = 0; v < file.has.size(); ++v)
+    if (file.has[v]) out.col(static_cast<Eigen::Index>(v)) = file.value[v];
   return out;
+}
+
+// Stages `file`'s bytes at `at`; returns their count.
+std::size_t stage_companion(const std::filesystem::path& at, const CompanionFile& file, std::vector<StagedFile>& files) {
+  files.emplace_back(at);
+  return files.back().write([&](std::ostream& os) {
+    os.write(reinterpret_cast<const char*>(file.bytes.data()), static_cast<std::streamsize>(file.bytes.size()));
+  });
 }
 
 // Stages a copy of each external image of a glTF source beside `target` when it goes to
@@ -117,10 +115,7 @@ std::size_t stage_gltf_images(const std::filesystem::path& target, const Mesh& m
   std::size_t total = 0;
   for (const CompanionFile& c : gltf_image_files(mesh)) {
     std::filesystem::create_directories((to / c.name).parent_path());
-    files.emplace_back(to / c.name);
-    total += files.back().write([&](std::ostream& os) {
-      os.write(reinterpret_cast<const char*>(c.bytes.data()), static_cast<std::streamsize>(c.bytes.size()));
-    });
+    total += stage_companion(to / c.name, c, files);
   }
   return total;
 }
@@ -217,10 +212,7 @@ std::vector<StagedFile> stage_mesh_files(const std::string& path, const Mesh& me
     const std::filesystem::path normal = std::filesystem::absolute(at).lexically_normal();
     if (const GltfScene* scene = mesh.gltf_scene(); scene && gltf_reads_file(*scene, normal))
       throw InputError(At{path}, "its buffer " + at.string() + " would replace the input's; choose another name");
-    files.emplace_back(at);
-    total += files.back().write([&](std::ostream& os) {
-      os.write(reinterpret_cast<const char*>(c.bytes.data()), static_cast<std::streamsize>(c.bytes.size()));
-    });
+    total += stage_companion(at, c, files);
   }
   const std::string json = main.str();
   files.emplace_back(target);

@@ -3,6 +3,7 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
@@ -215,6 +216,12 @@ Image read_png_memory(const std::uint8_t* data, std::size_t size, const std::str
   Image image(static_cast<int>(header.width), static_cast<int>(header.height));
   if (!decode(s.png, s.info, &header, image.rgb.data())) throw_corrupt(state, name);
   return image;
+}
+
+bool has_png_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".png";
 }
 
 }  // namespace ffd

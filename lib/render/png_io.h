@@ -26,6 +26,9 @@ inline constexpr std::uint32_t kMaxPngSide = std::uint32_t(1) << 24;
 /// \throw IoError if libpng fails otherwise (out of memory).
 void write_png(std::ostream& os, const Image& image);
 
+/// Whether `path` ends in .png (any case): what the picture outputs are checked for.
+bool has_png_extension(const std::string& path);
+
 /// Reads the PNG file at `path` (see read_png_memory).
 /// \throw InputError "path: no such file" if there is no file, "path: cannot open for
 /// reading: reason" if it cannot be opened, and read_png_memory's errors.

@@ -76,18 +76,29 @@ struct Camera {
 
 V3 col(const ConstVec3Array& a, std::size_t i) { return {a(0, i), a(1, i), a(2, i)}; }
 
-// Orients the camera and fits the projected points into the image.
-Camera fit_camera(const std::vector<V3>& points, const RenderOptions& o) {
+// Calls fn(p) for every point the camera fits: the mesh's vertices, then the overlays'.
+template <class Fn>
+void for_each_fitted(const Mesh& mesh, const std::vector<Overlay>& overlays, Fn fn) {
+  const ConstVec3Array p = mesh.positions();
+  for (std::size_t i = 0; i < mesh.num_vertices(); ++i) fn(col(p, i));
+  for (const Overlay& ov : overlays)
+    for (const Eigen::Vector3d& q : ov.points) fn(V3{q.x(), q.y(), q.z()});
+}
+
+// Orients the camera and fits the mesh and the overlays' points into the image.
+Camera fit_camera(const Mesh& mesh, const std::vector<Overlay>& overlays, const RenderOptions& o) {
   Camera cam;
   cam.width = o.width;
   cam.height = o.height;
   cam.perspective = o.perspective;
   V3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  for (const V3& p : points) {
+  std::size_t count = 0;
+  for_each_fitted(mesh, overlays, [&](V3 p) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  if (points.empty()) lo = hi = V3{};
+    ++count;
+  });
+  if (count == 0) lo = hi = V3{};
   cam.center = {0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), 0.5 * (lo.z + hi.z)};
   double sa, ca, se, ce;
   sincos_deg(o.azimuth_deg, sa, ca);
@@ -98,16 +109,16 @@ Camera fit_camera(const std::vector<V3>& points, const RenderOptions& o) {
   cam.right = normalized(r);
   cam.up = cross(cam.back, cam.right);
   double radius = 0;
-  for (const V3& p : points) radius = std::max(radius, dot(p - cam.center, p - cam.center));
+  for_each_fitted(mesh, overlays, [&](V3 p) { radius = std::max(radius, dot(p - cam.center, p - cam.center)); });
   radius = std::sqrt(radius);
   cam.distance = (radius > 0 ? radius : 1.0) / 0.25881904510252074;  // sin 15°: a 30° field of view
   double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-  for (const V3& p : points) {
+  for_each_fitted(mesh, overlays, [&](V3 p) {
     double x, y, k;
     cam.project(p, x, y, k);
     x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-  }
-  if (points.empty()) x0 = x1 = y0 = y1 = 0;
+  });
+  if (count == 0) x0 = x1 = y0 = y1 = 0;
   cam.mid_x = 0.5 * (x0 + x1);
   cam.mid_y = 0.5 * (y0 + y1);
   const double span_x = std::max(x1 - x0, 1e-300), span_y = std::max(y1 - y0, 1e-300);
@@ -132,19 +143,6 @@ std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return -floor_div(-a, b)
 }  // namespace
 
 namespace {
-
-// The triangles to draw (polygons fanned from their first corner), as vertex triples.
-std::vector<std::array<std::uint32_t, 3>> triangles(const Mesh& mesh) {
-  std::vector<std::array<std::uint32_t, 3>> out;
-  const MeshElements& el = mesh.elements();
-  out.reserve(el.corners.size());
-  for (std::size_t e = 0; e < el.size(); ++e) {
-    if (el.kinds[e] != ElementKind::Polygon) continue;
-    const std::uint32_t* c = el.vertices(e);
-    for (std::uint32_t k = 1; k + 1 < el.degree(e); ++k) out.push_back({c[0], c[k], c[k + 1]});
-  }
-  return out;
-}
 
 // What the z-buffer keeps per pixel: the nearest triangle and its barycentric weights
 // of corners 1 and 2 (corner 0's is the rest).
@@ -346,26 +344,22 @@ void draw_overlays(Image& image, const Camera& cam, const std::vector<Overlay>& 
 Image render_mesh(const Mesh& mesh, const RenderOptions& o, const std::vector<Eigen::Vector3f>* vertex_colors,
                   const std::vector<Overlay>& overlays) {
   const std::size_t n = mesh.num_vertices();
-  std::vector<V3> world(n);
-  for (std::size_t i = 0; i < n; ++i) world[i] = col(mesh.positions(), i);
-  std::vector<V3> fit = world;
-  for (const Overlay& ov : overlays)
-    for (const Eigen::Vector3d& p : ov.points) fit.push_back({p.x(), p.y(), p.z()});
-  const Camera cam = fit_camera(fit, o);
+  const Camera cam = fit_camera(mesh, overlays, o);
   ShadeInput in;
   std::vector<ScreenVertex> screen(n);
-  in.view_pos.resize(n);
-  in.view_normal.resize(n);
+  // Flat shading reads view-space positions (face normals), smooth shading vertex normals.
+  (o.flat ? in.view_pos : in.view_normal).resize(n);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(n); ++i) {
+    const V3 p = col(mesh.positions(), i);
     double x, y, key;
-    cam.project(world[i], x, y, key);
+    cam.project(p, x, y, key);
     screen[i] = {fixed(cam.screen_x(x)), fixed(cam.screen_y(y)), key, o.perspective ? -key : 1.0};
-    const V3 d = world[i] - cam.center, nw = col(mesh.normals(), i);
-    in.view_pos[i] = {dot(d, cam.right), dot(d, cam.up), dot(d, cam.back)};
-    in.view_normal[i] = {dot(nw, cam.right), dot(nw, cam.up), dot(nw, cam.back)};
+    const V3 d = p - cam.center, nw = col(mesh.normals(), i);
+    if (o.flat) in.view_pos[i] = {dot(d, cam.right), dot(d, cam.up), dot(d, cam.back)};
+    else in.view_normal[i] = {dot(nw, cam.right), dot(nw, cam.up), dot(nw, cam.back)};
   }
-  const std::vector<std::array<std::uint32_t, 3>> tris = triangles(mesh);
+  const std::vector<std::array<std::uint32_t, 3>> tris = fan_triangles(mesh.elements());
   in.tris = &tris;
   in.screen = &screen;
   std::vector<Eigen::Vector3f> levels;

@@ -19,7 +19,7 @@ struct SaveStep final : Step {
 
   std::vector<OutputFile> outputs() const override {
     std::vector<OutputFile> out = {{"/path", path}};
-    if (preview) out.push_back({"/preview", *preview});
+    if (preview) out.push_back({"/preview", *preview, true});
     return out;
   }
   void run(Scene& scene, StepContext& ctx) const override;

@@ -1,6 +1,5 @@
 #include "script/output_files.h"
 
-#include <algorithm>
 #include <filesystem>
 
 #include "common/errors.h"
@@ -21,9 +20,7 @@ std::size_t stage_mesh_at(Scene& scene, const std::string& path, const WriteOpti
 }
 
 std::size_t stage_preview(Scene& scene, const std::string& target) {
-  std::string ext = std::filesystem::path(target).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext != ".png") throw InputError(At{target}, "a preview is a PNG picture: give it the extension .png");
+  if (!has_png_extension(target)) throw InputError(At{target}, "a preview is a PNG picture: give it the extension .png");
   std::vector<Overlay> nets;
   for (const auto& [name, lattice] : scene.lattices) nets.push_back(control_net(*lattice));
   const Image image = render_mesh(scene.mesh, RenderOptions{}, nullptr, nets);

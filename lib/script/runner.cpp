@@ -11,6 +11,7 @@
 #include "common/numbers.h"
 #include "common/timer.h"
 #include "mesh/mesh_io.h"
+#include "render/png_io.h"
 #include "script/output_files.h"
 #include "script/scene.h"
 #include "script/script.h"
@@ -46,6 +47,8 @@ void check_outputs(const RunOptions& options, const Script& script, const std::s
       if (same_file(options.stats, input)) throw InputError(At{options.stats}, "the stats file would overwrite an input");
   }
   if (!options.preview.empty()) {
+    if (!has_png_extension(options.preview))
+      throw InputError(At{options.preview}, "a preview is a PNG picture: give it the extension .png");
     require_output_folder(options.preview, "preview");
     for (const std::string& input : {options.mesh, options.script})
       if (same_file(options.preview, input)) throw InputError(At{options.preview}, "the preview would overwrite an input");

@@ -37,7 +37,7 @@ Script parse_script(const std::string& text, const std::string& path) {
     if (!op) throw std::logic_error("op " + steps[i]["op"].dump() + " is in the schema but not in the op table");
     std::unique_ptr<Step> step = op->parse(steps[i], place);
     step->check(checks);
-    for (const OutputFile& file : step->outputs()) checks.check_output_path(file.path, place.pointer + file.key);
+    for (const OutputFile& file : step->outputs()) checks.check_output_path(file, place.pointer + file.key);
     script.steps.push_back(std::move(step));
   }
   return script;

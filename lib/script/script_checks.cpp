@@ -1,11 +1,11 @@
 #include "script/script_checks.h"
 
-#include <algorithm>
-#include <cctype>
 #include <filesystem>
 
 #include "common/errors.h"
 #include "mesh/mesh_io.h"
+#include "script/op.h"
+#include "render/png_io.h"
 
 namespace ffd {
 
@@ -13,12 +13,10 @@ void ScriptChecks::fail(const std::string& pointer, const std::string& what) con
   throw InputError(At{path_ + ": " + pointer}, what);
 }
 
-void ScriptChecks::check_output_path(const std::string& path, const std::string& pointer) const {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  const bool picture = pointer.size() >= 8 && pointer.compare(pointer.size() - 8, 8, "/preview") == 0;
-  if (picture && ext != ".png") fail(pointer, "'" + path + "': a preview is a PNG picture (.png)");
-  if (!picture) {
+void ScriptChecks::check_output_path(const OutputFile& file, const std::string& pointer) const {
+  const std::string& path = file.path;
+  if (file.picture && !has_png_extension(path)) fail(pointer, "'" + path + "': a preview is a PNG picture (.png)");
+  if (!file.picture) {
     try {
       mesh_format(path);
     } catch (const InputError&) {

@@ -12,14 +12,17 @@
 
 namespace ffd {
 
+struct OutputFile;
+
 class ScriptChecks {
 public:
   explicit ScriptChecks(std::string script_path) : path_(std::move(script_path)) {}
 
   /// \throw InputError "script: pointer: what".
   [[noreturn]] void fail(const std::string& pointer, const std::string& what) const;
-  /// A path a step writes: a mesh extension, relative, inside the output folder.
-  void check_output_path(const std::string& path, const std::string& pointer) const;
+  /// A file a step writes: a mesh extension (a picture: .png), relative, inside the
+  /// output folder.
+  void check_output_path(const OutputFile& file, const std::string& pointer) const;
   /// The lattice called `name`; fails at `pointer` if no step created it earlier.
   const LatticeSpec& lattice_of(const std::string& name, const std::string& pointer) const;
 
