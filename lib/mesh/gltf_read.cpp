@@ -225,9 +225,37 @@ void add_elements(PolygonSoup& soup, const GltfRun& run, const RunTables& t, con
   }
 }
 
+// Room in the soup for every primitive's vertices and corners, so that a large file is
+// not copied as its arrays grow. The counts are the file's, not yet checked: each is
+// capped by what the buffers could hold (12 bytes a vertex, 1 byte an index).
+void reserve_soup(const tinygltf::Model& model, const GltfScene& scene, PolygonSoup& soup) {
+  std::size_t bytes = 0, vertices = 0, corners = 0;
+  for (const tinygltf::Buffer& b : model.buffers) bytes += b.data.size();
+  auto count = [&](int accessor) {
+    return accessor >= 0 && static_cast<std::size_t>(accessor) < model.accessors.size() ? model.accessors[accessor].count
+                                                                                        : std::size_t(0);
+  };
+  for (const GltfInstance& inst : scene.instances)
+    for (const tinygltf::Primitive& prim : model.meshes[inst.mesh].primitives) {
+      const auto pos = prim.attributes.find("POSITION");
+      if (pos == prim.attributes.end()) continue;
+      vertices += count(pos->second);
+      corners += prim.indices >= 0 ? count(prim.indices) : count(pos->second);
+    }
+  vertices = std::min(vertices, bytes / 12);
+  corners = std::min(corners, bytes + 3 * vertices);
+  soup.positions.reserve(vertices);
+  soup.normals.reserve(vertices);
+  soup.uvs.reserve(vertices);
+  soup.elements.reserve(corners / 3, 3);
+  soup.elements.corner_uvs.reserve(corners);
+  soup.elements.corner_normals.reserve(corners);
+}
+
 // Each primitive of each instance: its run (shared by primitives of one node that share
 // POSITION and NORMAL accessors) and its elements.
 void read_instances(tinygltf::Model& model, GltfScene& scene, PolygonSoup& soup) {
+  reserve_soup(model, scene, soup);
   std::map<std::tuple<std::size_t, int, int>, RunTables> runs;
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
     const GltfInstance& inst = scene.instances[i];
