@@ -30,9 +30,9 @@ int fail(int code, const std::string& message) {
 int command_compare(const std::string& a_path, const std::string& b_path, double tolerance,
                     const std::string& metric, bool as_json, const std::string& heatmap,
                     const ffdcli::PictureArgs& picture) {
+  if (!heatmap.empty()) ffdcli::check_heatmap_path(heatmap);
   const ffd::Mesh a = ffd::read_mesh(a_path);
   const ffd::Mesh b = ffd::read_mesh(b_path);
-  if (!heatmap.empty()) ffdcli::write_heatmap(heatmap, a, b, metric == "hausdorff", tolerance, picture);
   ffd::MeshDifference d;
   if (metric == "vertex") {
     d = ffd::compare_vertices(a, b);
@@ -42,6 +42,7 @@ int command_compare(const std::string& a_path, const std::string& b_path, double
     const double bound = tolerance > 0 ? tolerance / 10 : 1e-6 * info.diagonal;
     d = ffd::compare_hausdorff(a, b, bound);
   }
+  if (!heatmap.empty()) ffdcli::write_heatmap(heatmap, b, d, tolerance, picture);
   const bool within = d.comparable && d.max <= tolerance && (metric != "vertex" || d.same_connectivity);
   if (as_json) {
     nlohmann::json j = {{"metric", d.metric}, {"comparable", d.comparable}, {"within_tolerance", within},

@@ -72,19 +72,20 @@ int command_render(const PictureArgs& args) {
   return 0;
 }
 
-void write_heatmap(const std::string& path, const ffd::Mesh& a, const ffd::Mesh& b, bool hausdorff, double tolerance,
+void check_heatmap_path(const std::string& path) { check_png_path(path, "the heat map"); }
+
+void write_heatmap(const std::string& path, const ffd::Mesh& b, const ffd::MeshDifference& d, double tolerance,
                    const PictureArgs& args) {
-  check_png_path(path, "the heat map");
-  const std::vector<double> d = ffd::vertex_distances(a, b, hausdorff);
-  if (d.empty())
-    throw ffd::InputError(ffd::At{path}, hausdorff ? "the heat map needs faces on the first mesh"
-                                              : "the vertex metric's heat map needs the same vertex count in both meshes "
-                                                "(use --metric hausdorff)");
+  if (d.distances.empty())
+    throw ffd::InputError(ffd::At{path}, d.metric == "hausdorff"
+                                             ? "the heat map needs faces on both meshes"
+                                             : "the vertex metric's heat map needs the same vertex count in both "
+                                               "meshes (use --metric hausdorff)");
   double max = 0, sum = 0;
   std::size_t n = 0;
-  for (double x : d)
+  for (double x : d.distances)
     if (!std::isnan(x)) max = std::max(max, x), sum += x, ++n;
-  save_png(path, ffd::render_heatmap(b, d, tolerance, max, n ? sum / n : 0.0, render_options(args)));
+  save_png(path, ffd::render_heatmap(b, d.distances, tolerance, max, n ? sum / n : 0.0, render_options(args)));
 }
 
 }  // namespace ffdcli

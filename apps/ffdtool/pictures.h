@@ -5,6 +5,7 @@
 #include <string>
 
 #include "mesh/mesh.h"
+#include "mesh/mesh_compare.h"
 
 namespace ffdcli {
 
@@ -24,8 +25,10 @@ void add_picture_options(CLI::App* command, PictureArgs& args);
 /// Runs `render`; returns the exit code.
 int command_render(const PictureArgs& args);
 
-/// Writes `compare`'s heat map of b against a to `path`.
-void write_heatmap(const std::string& path, const ffd::Mesh& a, const ffd::Mesh& b, bool hausdorff, double tolerance,
+/// Checks `path` for `compare --heatmap` (a .png in an existing folder), before any work.
+void check_heatmap_path(const std::string& path);
+/// Writes `compare`'s heat map of b, coloured by `d.distances` (its distances to a), to `path`.
+void write_heatmap(const std::string& path, const ffd::Mesh& b, const ffd::MeshDifference& d, double tolerance,
                    const PictureArgs& args);
 
 }  // namespace ffdcli

@@ -31,18 +31,18 @@ MeshDifference compare_vertices(const Mesh& a, const Mesh& b) {
                std::to_string(b.num_vertices()) + "); use --metric hausdorff";
     return d;
   }
-  const ConstVec3Array pa = a.positions(), pb = b.positions();
+  d.distances = vertex_distances(a, b, false);
   double sum = 0, sum2 = 0;
-  for (Eigen::Index i = 0; i < pa.cols(); ++i) {
-    const double e = (pa.col(i) - pb.col(i)).norm();
+  for (std::size_t i = 0; i < d.distances.size(); ++i) {
+    const double e = d.distances[i];
     sum += e;
     sum2 += e * e;
     if (e > d.max) {
       d.max = e;
-      d.worst_vertex = static_cast<std::size_t>(i);
+      d.worst_vertex = i;
     }
   }
-  const double n = std::max<double>(1, static_cast<double>(pa.cols()));
+  const double n = std::max<double>(1, static_cast<double>(d.distances.size()));
   d.mean = sum / n;
   d.rms = std::sqrt(sum2 / n);
   d.same_connectivity = same_elements(a, b);
@@ -93,9 +93,9 @@ std::vector<double> distances_to_surface(const Mesh& from, const SurfaceMesh& to
   return out;
 }
 
-// Sums of the distances from `from`'s used vertices to `to`, and their count.
-void vertex_to_surface(const Mesh& from, const SurfaceMesh& to, double& sum, double& sum2, std::size_t& n) {
-  for (const double e : distances_to_surface(from, to)) {
+// Adds the distances that are known (not NaN) to the sums and the count.
+void add_distances(const std::vector<double>& distances, double& sum, double& sum2, std::size_t& n) {
+  for (const double e : distances) {
     if (std::isnan(e)) continue;
     sum += e;
     sum2 += e * e;
@@ -119,8 +119,9 @@ MeshDifference compare_hausdorff(const Mesh& a, const Mesh& b, double error_boun
   d.max = std::max(ab, ba);
   double sum = 0, sum2 = 0;
   std::size_t n = 0;
-  vertex_to_surface(a, tb, sum, sum2, n);
-  vertex_to_surface(b, ta, sum, sum2, n);
+  add_distances(distances_to_surface(a, tb), sum, sum2, n);
+  d.distances = distances_to_surface(b, ta);
+  add_distances(d.distances, sum, sum2, n);
   d.mean = n ? sum / n : 0;
   d.rms = n ? std::sqrt(sum2 / n) : 0;
   d.same_connectivity = same_elements(a, b);

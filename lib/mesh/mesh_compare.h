@@ -17,6 +17,9 @@ struct MeshDifference {
   double mean = 0;             // vertex: mean |a_i - b_i|; hausdorff: mean vertex-to-surface, both ways
   double rms = 0;
   std::size_t worst_vertex = 0;  // vertex metric: where max is reached
+  /// Per vertex of b, its distance to a (as vertex_distances): what --heatmap colours.
+  /// Empty when not comparable.
+  std::vector<double> distances;
 };
 
 /// Per-vertex comparison: vertex i of a against vertex i of b; faces compared as lists.
@@ -29,7 +32,8 @@ MeshDifference compare_hausdorff(const Mesh& a, const Mesh& b, double error_boun
 
 /// Each vertex of `b`'s distance to `a`: |a_i - b_i| for the vertex metric (empty when
 /// the vertex counts differ), else the distance to a's surface (CGAL's AABB tree; NaN
-/// for a vertex no polygon of b uses). What `compare --heatmap` colours.
+/// for a vertex no polygon of b uses). compare_vertices and compare_hausdorff keep them
+/// in MeshDifference::distances.
 std::vector<double> vertex_distances(const Mesh& a, const Mesh& b, bool hausdorff);
 
 }  // namespace ffd
