@@ -58,26 +58,14 @@ std::vector<int> render_sides(bool quick) { return quick ? std::vector<int>{100}
 /// The grid mesh of side n (n² vertices, 2 (n-1)² triangles).
 Mesh grid(int n) { return build_mesh(height_field(n), "grid"); }
 
-/// The bytes of the file at `path` and, for a .gltf, of the buffers beside it that
-/// write_mesh names after its stem ("STEM.bin", "STEM_1.bin", …).
-double file_bytes(const std::string& path) {
-  const fs::path p(path);
-  double total = static_cast<double>(fs::file_size(p));
-  if (p.extension() != ".gltf") return total;
-  const std::string stem = p.stem().string();
-  for (int k = 0;; ++k) {
-    const fs::path bin = p.parent_path() / (k == 0 ? stem + ".bin" : stem + "_" + std::to_string(k) + ".bin");
-    if (!fs::exists(bin)) break;
-    total += static_cast<double>(fs::file_size(bin));
-  }
-  return total;
-}
-
-/// Writes `mesh` to `path` with write_mesh; a .ply in binary.
-void write_as(const std::string& path, const Mesh& mesh) {
+/// Writes `mesh` to `path` as write_mesh does (a .ply in binary); returns the bytes of
+/// every file written (a .gltf's .bin files too).
+double write_as(const std::string& path, const Mesh& mesh, WriteOptions::Encoding encoding) {
   WriteOptions options;
-  options.encoding = WriteOptions::Encoding::Binary;
-  write_mesh(path, mesh, options);
+  options.encoding = encoding;
+  std::size_t bytes = 0;
+  for (StagedFile& f : stage_mesh_files(path, mesh, options, &bytes)) f.commit();
+  return static_cast<double>(bytes);
 }
 
 /// One gltf row: `mesh` written as `f` (write_new_ms: from the generated mesh, which has
@@ -86,13 +74,13 @@ void write_as(const std::string& path, const Mesh& mesh) {
 json format_row(const Format& f, const Mesh& mesh, const TempFolder& dir, int repeats) {
   const std::string tag = "grid-" + std::to_string(mesh.num_vertices()) + "-" + (f.ext + 1);
   const std::string in = dir.file(tag + f.ext), out = dir.file(tag + "-out" + f.ext);
-  const double new_ms = median_ms(repeats, [&] { write_as(in, mesh); });
-  const double bytes = file_bytes(in);
+  double bytes = 0;
+  const double new_ms = median_ms(repeats, [&] { bytes = write_as(in, mesh, WriteOptions::Encoding::Binary); });
   std::size_t read_vertices = 0;
   const double read_ms = median_ms(repeats, [&] { read_vertices = read_mesh(in).num_vertices(); });
   const Mesh back = read_mesh(in);
-  const double write_ms = median_ms(repeats, [&] { write_mesh(out, back); });
-  const double write_bytes = file_bytes(out);
+  double write_bytes = 0;
+  const double write_ms = median_ms(repeats, [&] { write_bytes = write_as(out, back, WriteOptions::Encoding::Auto); });
   json r = {{"format", f.name},
             {"vertices", mesh.num_vertices()},
             {"triangles", mesh.num_faces()},
@@ -154,7 +142,7 @@ double zbuffer_fill_ms(std::size_t pixels, int repeats) {
 /// The render baselines of one mesh: read_mesh of it as binary PLY.
 double read_ply_ms(const Mesh& mesh, const TempFolder& dir, int repeats) {
   const std::string path = dir.file("render-" + std::to_string(mesh.num_faces()) + ".ply");
-  write_as(path, mesh);
+  write_as(path, mesh, WriteOptions::Encoding::Binary);
   return median_ms(repeats, [&] { read_mesh(path); });
 }
 
