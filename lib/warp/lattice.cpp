@@ -195,21 +195,7 @@ void Lattice::clear_changes() {
 // Slab test in box coordinates: clip the segment's parameter range t in [0, 1] against
 // each axis's slab [-kBoxTolerance, 1 + kBoxTolerance].
 bool Lattice::can_act_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
-  const Eigen::Vector3d ua = box_.to_local(a), ub = box_.to_local(b);
-  double t0 = 0, t1 = 1;
-  for (int axis = 0; axis < 3; ++axis) {
-    const double lo = -kBoxTolerance, hi = 1 + kBoxTolerance, delta = ub[axis] - ua[axis];
-    if (delta == 0) {
-      if (!(ua[axis] >= lo && ua[axis] <= hi)) return false;
-      continue;
-    }
-    double ta = (lo - ua[axis]) / delta, tb = (hi - ua[axis]) / delta;
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-    if (!(t0 <= t1)) return false;
-  }
-  return true;
+  return box_.segment_meets(a, b, kBoxTolerance);
 }
 
 double Lattice::feature_size() const {

@@ -1,5 +1,6 @@
 #include "warp/parallelepiped.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/errors.h"
@@ -13,6 +14,24 @@ Parallelepiped::Parallelepiped(const Eigen::Vector3d& origin, const Eigen::Matri
   if (!(lengths.minCoeff() > 0) || !(volume > 1e-12 * lengths.prod()))
     throw InputError("the box's axes are degenerate (zero length or not linearly independent)");
   inverse_ = axes.inverse();
+}
+
+bool Parallelepiped::segment_meets(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double tolerance) const {
+  const Eigen::Vector3d ua = to_local(a), ub = to_local(b);
+  double t0 = 0, t1 = 1;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double lo = -tolerance, hi = 1 + tolerance, delta = ub[axis] - ua[axis];
+    if (delta == 0) {
+      if (!(ua[axis] >= lo && ua[axis] <= hi)) return false;
+      continue;
+    }
+    double ta = (lo - ua[axis]) / delta, tb = (hi - ua[axis]) / delta;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (!(t0 <= t1)) return false;
+  }
+  return true;
 }
 
 Parallelepiped Parallelepiped::from_min_max(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {

@@ -25,6 +25,9 @@ public:
   Eigen::Vector3d to_world(const Eigen::Vector3d& u) const { return origin_ + axes_ * u; }
   /// Lengths of the three edges.
   Eigen::Vector3d extents() const { return axes_.colwise().norm(); }
+  /// Whether the segment [a, b] meets the box grown by `tolerance` in box coordinates (a
+  /// slab test).
+  bool segment_meets(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double tolerance) const;
 
 private:
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();

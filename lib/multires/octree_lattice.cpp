@@ -1,0 +1,252 @@
+// OctreeLattice: building the levels (octree subdivision, cuts, shrink) and moving points.
+#include "multires/octree_lattice.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "multires/volume_subdivision.h"
+
+namespace ffd {
+namespace {
+
+constexpr double kInsideTolerance = 1e-9;
+
+/// The grid cell at `resolution` of box coordinates t (clamped into the grid).
+GridIndex grid_cell(const Eigen::Vector3d& t, int resolution) {
+  GridIndex g;
+  for (int a = 0; a < 3; ++a)
+    g[a] = std::clamp(static_cast<int>(std::floor(t[a] * resolution)), 0, resolution - 1);
+  return g;
+}
+
+std::size_t dense(const GridIndex& g, int resolution) {
+  return (static_cast<std::size_t>(g[2]) * resolution + g[1]) * resolution + g[0];
+}
+
+}  // namespace
+
+OctreeLattice::OctreeLattice(const Parallelepiped& box, const Eigen::Matrix3Xd& region, const OctreeOptions& options)
+    : box_(box), options_(options) {
+  build_levels(region);
+}
+
+void OctreeLattice::build_levels(const Eigen::Matrix3Xd& region) {
+  std::vector<Eigen::Vector3d> inside;  // box coordinates of the region points in the box
+  for (Eigen::Index v = 0; v < region.cols(); ++v) {
+    const Eigen::Vector3d t = box_.to_local(region.col(v));
+    if ((t.array() >= -kInsideTolerance).all() && (t.array() <= 1 + kInsideTolerance).all()) inside.push_back(t);
+  }
+  Eigen::Matrix3Xd t(3, static_cast<Eigen::Index>(inside.size()));
+  for (std::size_t i = 0; i < inside.size(); ++i) t.col(static_cast<Eigen::Index>(i)) = inside[i];
+
+  levels_.assign(static_cast<std::size_t>(options_.levels) + 1, Level{});
+  for (Level& level : levels_) {  // references to sub[k], fine[k] stay valid as they are built
+    level.sub.reserve(static_cast<std::size_t>(options_.cc_steps) + 1);
+    level.fine.reserve(static_cast<std::size_t>(options_.cc_steps) + 1);
+    level.disp.reserve(static_cast<std::size_t>(options_.cc_steps) + 1);
+  }
+  levels_[0].sub.push_back(make_grid_complex(1, {{0, 0, 0}}));
+  for (int l = 1; l <= options_.levels; ++l) {
+    // Octree subdivision (reconnection rules (1)-(3)), then cut the cells holding no
+    // region vertex (step 3 of section 2.1).
+    const GridComplex refined = refine(levels_[l - 1].sub[0]);
+    const int res = refined.resolution;
+    std::vector<std::uint8_t> holds(static_cast<std::size_t>(res) * res * res, 0);
+    for (Eigen::Index v = 0; v < t.cols(); ++v) holds[dense(grid_cell(t.col(v), res), res)] = 1;
+    levels_[l].sub.push_back(
+        sub_complex(refined, [&](std::size_t c) { return holds[dense(refined.cells[c], res)] != 0; }));
+    levels_[l].cut = refined.num_cells() - levels_[l].sub[0].num_cells();
+  }
+  for (int l = 0; l <= options_.levels; ++l) {
+    Level& level = levels_[l];
+    const GridComplex& g = level.sub[0];
+    level.rest.resize(3, static_cast<Eigen::Index>(g.num_points()));
+    for (std::size_t p = 0; p < g.num_points(); ++p)
+      level.rest.col(static_cast<Eigen::Index>(p)) =
+          box_.to_world(Eigen::Vector3d(g.points[p][0], g.points[p][1], g.points[p][2]) / g.resolution);
+    if (options_.shrink >= 0) shrink_level(l, t);
+    level.delta = Eigen::Matrix3Xd::Zero(3, level.rest.cols());
+    level.fine.push_back(level.rest);
+    level.disp.push_back(level.delta);
+    level.changed.assign(static_cast<std::size_t>(g.resolution) * g.resolution * g.resolution, 0);
+  }
+}
+
+/// Section 2.2: each point on the boundary across an axis (cells on one side of it only)
+/// moves along that axis toward the region, stopping `shrink` short of the farthest
+/// region vertex in its cells. Moving only toward the cells' own vertices keeps every
+/// vertex inside its cell. The paper leaves how far open; a point moves at most 0.45 of
+/// a cell, so that a cell keeps at least a tenth of its width on every axis (at fine
+/// levels a cell may hold one vertex, and an unbounded shrink would make it a sliver
+/// whose trilinear map cannot be inverted reliably).
+void OctreeLattice::shrink_level(int l, const Eigen::Matrix3Xd& t) {
+  Level& level = levels_[l];
+  const GridComplex& g = level.sub[0];
+  const int res = g.resolution;
+  const Eigen::Vector3d offset = options_.shrink * box_.extents().cwiseInverse();
+  Eigen::Matrix3Xd lo = Eigen::Matrix3Xd::Constant(3, static_cast<Eigen::Index>(g.num_cells()), HUGE_VAL);
+  Eigen::Matrix3Xd hi = -lo;
+  for (Eigen::Index v = 0; v < t.cols(); ++v) {
+    const GridIndex c = grid_cell(t.col(v), res);
+    const std::int32_t cell = g.cell(c[0], c[1], c[2]);
+    if (cell < 0) continue;
+    lo.col(cell) = lo.col(cell).cwiseMin(t.col(v));
+    hi.col(cell) = hi.col(cell).cwiseMax(t.col(v));
+  }
+  for (std::size_t p = 0; p < g.num_points(); ++p) {
+    const GridIndex& n = g.points[p];
+    Eigen::Vector3d u = Eigen::Vector3d(n[0], n[1], n[2]) / res;
+    for (int a = 0; a < 3; ++a) {
+      double below = -HUGE_VAL, above = HUGE_VAL;  // extents of the vertices on each side
+      bool cells_below = false, cells_above = false;
+      for (int k = 0; k < 8; ++k) {
+        const GridIndex c{n[0] - (k & 1), n[1] - ((k >> 1) & 1), n[2] - ((k >> 2) & 1)};
+        const std::int32_t cell = g.cell(c[0], c[1], c[2]);
+        if (cell < 0) continue;
+        const bool side_below = c[a] < n[a];
+        (side_below ? cells_below : cells_above) = true;
+        if (side_below) below = std::max(below, hi(a, cell));
+        else above = std::min(above, lo(a, cell));
+      }
+      const double most = 0.45 / res;
+      if (cells_below && !cells_above && below > -HUGE_VAL) u[a] = std::max(u[a] - most, std::min(u[a], below + offset[a]));
+      if (cells_above && !cells_below && above < HUGE_VAL) u[a] = std::min(u[a] + most, std::max(u[a], above - offset[a]));
+    }
+    level.rest.col(static_cast<Eigen::Index>(p)) = box_.to_world(u);
+  }
+}
+
+Eigen::Matrix3Xd OctreeLattice::points(int l) const {
+  // Delta_0 = delta_0; Delta_l = O(Delta_{l-1}) + delta_l (octree rules: linear).
+  bool any = false;
+  for (int i = 0; i <= l; ++i) any = any || levels_[i].moved;
+  if (!any) return levels_[l].rest;
+  Eigen::MatrixXd deformation = levels_[0].delta;
+  for (int i = 1; i <= l; ++i)
+    deformation = subdivide_field(levels_[i - 1].sub[0], levels_[i].sub[0], deformation, SubdivisionRule::Octree) +
+                  Eigen::MatrixXd(levels_[i].delta);
+  return levels_[l].rest + deformation;
+}
+
+OctreeMove OctreeLattice::move_points(int l, const std::vector<std::int32_t>& ids,
+                                      const std::vector<Eigen::Vector3d>& targets) {
+  OctreeMove report;
+  Level& level = levels_[l];
+  const Eigen::Matrix3Xd shown = points(l);
+  Eigen::Matrix3Xd change(3, static_cast<Eigen::Index>(ids.size()));
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    change.col(static_cast<Eigen::Index>(i)) = targets[i] - shown.col(ids[i]);
+    level.delta.col(ids[i]) += change.col(static_cast<Eigen::Index>(i));
+  }
+  report.points_moved = ids.size();
+  ensure_subdivided(l);
+  update_displacements(l, ids, change, report);
+  mark_changed(l, ids, report);
+  level.moved = true;
+  any_changed_ = any_changed_ || !ids.empty();
+  return report;
+}
+
+void OctreeLattice::ensure_subdivided(int l) const {
+  Level& level = levels_[l];
+  while (static_cast<int>(level.sub.size()) <= options_.cc_steps) {
+    const std::size_t k = level.sub.size();
+    level.sub.push_back(refine(level.sub[k - 1]));
+    level.fine.push_back(
+        subdivide_field(level.sub[k - 1], level.sub[k], level.fine[k - 1], SubdivisionRule::CatmullClark));
+    level.disp.push_back(
+        subdivide_field(level.sub[k - 1], level.sub[k], level.disp[k - 1], SubdivisionRule::CatmullClark));
+  }
+}
+
+/// The cells of the level within `before`..`after` grid steps of the points' nodes.
+static std::vector<std::uint8_t> cells_near(const GridComplex& g, const std::vector<std::int32_t>& ids, int before,
+                                            int after) {
+  std::vector<std::uint8_t> near(g.num_cells(), 0);
+  for (std::int32_t id : ids) {
+    const GridIndex& p = g.points[static_cast<std::size_t>(id)];
+    for (int k = p[2] - before; k <= p[2] + after; ++k)
+      for (int j = p[1] - before; j <= p[1] + after; ++j)
+        for (int i = p[0] - before; i <= p[0] + after; ++i) {
+          const std::int32_t c = g.cell(i, j, k);
+          if (c >= 0) near[static_cast<std::size_t>(c)] = 1;
+        }
+  }
+  return near;
+}
+
+void OctreeLattice::update_displacements(int l, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change,
+                                         OctreeMove& report) {
+  Level& level = levels_[l];
+  const GridComplex& g = level.sub[0];
+  level.disp[0] = level.delta;
+  // N_{S,4}: the cells whose points all lie within dist 4 of S, i.e. within 3 cells of
+  // the cells around S. Outside them the moves' subdivided image is zero.
+  const std::vector<std::uint8_t> patch = cells_near(g, ids, 4, 3);
+  const std::size_t patch_cells = static_cast<std::size_t>(std::count(patch.begin(), patch.end(), 1));
+  if (g.num_cells() <= options_.whole_level_cells || 2 * patch_cells >= g.num_cells()) {
+    for (int k = 1; k <= options_.cc_steps; ++k)
+      level.disp[k] = subdivide_field(level.sub[k - 1], level.sub[k], level.disp[k - 1], SubdivisionRule::CatmullClark);
+    report.cells_subdivided = g.num_cells();
+    return;
+  }
+  GridComplex local = sub_complex(g, [&](std::size_t c) { return patch[c] != 0; });
+  Eigen::MatrixXd field = Eigen::MatrixXd::Zero(3, static_cast<Eigen::Index>(local.num_points()));
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    field.col(local.point(g.points[static_cast<std::size_t>(ids[i])])) += change.col(static_cast<Eigen::Index>(i));
+  for (int k = 1; k <= options_.cc_steps; ++k) {
+    GridComplex finer = refine(local);
+    field = subdivide_field(local, finer, field, SubdivisionRule::CatmullClark);
+    for (std::size_t q = 0; q < finer.num_points(); ++q) {
+      if (field.col(static_cast<Eigen::Index>(q)).isZero(0.0)) continue;
+      level.disp[k].col(level.sub[k].point(finer.points[q])) += field.col(static_cast<Eigen::Index>(q));
+    }
+    local = std::move(finer);
+  }
+  report.cells_subdivided = patch_cells;
+}
+
+void OctreeLattice::mark_changed(int l, const std::vector<std::int32_t>& ids, OctreeMove& report) {
+  Level& level = levels_[l];
+  const GridComplex& g = level.sub[0];
+  const int res = g.resolution;
+  // N_{S,3}: the cells within 2 cells of the cells around S (grid cells, cut or not, so
+  // that a vertex a subdivided cell reaches over a cut is not missed).
+  for (std::int32_t id : ids) {
+    const GridIndex& p = g.points[static_cast<std::size_t>(id)];
+    for (int k = std::max(0, p[2] - 3); k <= std::min(res - 1, p[2] + 2); ++k)
+      for (int j = std::max(0, p[1] - 3); j <= std::min(res - 1, p[1] + 2); ++j)
+        for (int i = std::max(0, p[0] - 3); i <= std::min(res - 1, p[0] + 2); ++i)
+          level.changed[dense({i, j, k}, res)] = 1;
+  }
+  report.cells_marked = 0;
+  for (std::size_t c = 0; c < g.num_cells(); ++c) report.cells_marked += level.changed[dense(g.cells[c], res)];
+}
+
+void OctreeLattice::clear_changes() {
+  for (Level& level : levels_) std::fill(level.changed.begin(), level.changed.end(), 0);
+  any_changed_ = false;
+}
+
+std::size_t OctreeLattice::bytes() const {
+  std::size_t total = 0;
+  for (const Level& level : levels_) {
+    for (const GridComplex& g : level.sub) total += g.bytes();
+    for (const Eigen::Matrix3Xd& m : level.fine) total += static_cast<std::size_t>(m.size()) * sizeof(double);
+    for (const Eigen::Matrix3Xd& m : level.disp) total += static_cast<std::size_t>(m.size()) * sizeof(double);
+    total += static_cast<std::size_t>(level.rest.size() + level.delta.size()) * sizeof(double) + level.changed.size();
+  }
+  return total;
+}
+
+const GridComplex& OctreeLattice::subdivided(int l, int k) const {
+  ensure_subdivided(l);
+  return levels_[l].sub[k];
+}
+
+const Eigen::Matrix3Xd& OctreeLattice::subdivided_rest(int l, int k) const {
+  ensure_subdivided(l);
+  return levels_[l].fine[k];
+}
+
+}  // namespace ffd

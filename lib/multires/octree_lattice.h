@@ -1,0 +1,132 @@
+// OctreeLattice: Ono et al.'s multiresolution lattices as a space warp.
+//
+// Levels 0..L: level 0 is the box (one cell); level l+1 is the octree subdivision of
+// level l (section 2.1) with the cells that hold no region vertex cut. Every level is a
+// GridComplex at resolution 2^l. With `shrink`, each level's boundary points are moved
+// toward the region along each axis, keeping the offset (section 2.2).
+//
+// The deformation (section 3.2, as an exact function of the lattice state):
+//   F(x) = x + sum over levels l of  sum_c w_c(u) D_l^k(c)
+// where (k, cell, u) is where x lies in C^k(R_l), the k-th Catmull-Clark subdivision of
+// level l's rest lattice R_l (the finest k <= cc_steps whose lattice holds x: the
+// "minimal cell"), w_c are the trilinear weights of that hexahedral cell's corners, and
+// D_l^k = C^k(delta_l) is the subdivision of the user's moves at level l. By linearity of
+// the rules, x + sum w_c D(c) is exactly the relocation of x in C^k(R_l + delta_l) with
+// its parameters from C^k(R_l): the paper's pairs L_A and L_B.
+//
+// Hierarchical editing (section 4.1): level l's points as shown and moved are
+//   R_l + O(shown_{l-1} - R_{l-1}) + delta_l,
+// the octree subdivision O of the coarser level's deformation plus the level's own moves.
+// Each level's moves act through parameters of the undeformed model, so moving a finer
+// level after a coarser one adds its field to the coarser one's and changing level does
+// not move the model at all. This is the exact equivalent of the paper's lookup table:
+// F_{l+1}(x) = F_l(x) + [G(x; O(L_l') + delta) - G(x; O(L_l'))], and G is linear.
+//
+// Locality (section 3.2): moving points S at level l re-subdivides only the cells of
+// N_{S,4} (or the whole level when it is small), and marks the cells of N_{S,3}:
+// changed_points() reports only the vertices there; every other vertex is untouched.
+// Points outside every cell of every moved level are never changed, bit for bit.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "multires/grid_complex.h"
+#include "warp/parallelepiped.h"
+#include "warp/warp.h"
+
+namespace ffd {
+
+struct OctreeOptions {
+  int levels = 3;        // octree subdivisions of the box
+  int cc_steps = 2;      // Catmull-Clark volume subdivisions n
+  double shrink = -1;    // offset of shrunk boundary points from the region; < 0: no shrink
+  /// Levels with at most this many cells are subdivided whole on a move, not by N_{S,4}.
+  std::size_t whole_level_cells = 512;
+};
+
+/// What one move of a level did.
+struct OctreeMove {
+  std::size_t points_moved = 0;
+  std::size_t cells_subdivided = 0;  // cells of the level that were Catmull-Clark subdivided
+  std::size_t cells_marked = 0;      // cells of N_{S,3}, whose vertices are relocated
+};
+
+class OctreeLattice : public Warp {
+public:
+  /// Builds the levels on `box` around the region points (columns of `region`, in the
+  /// warp's input space). Region points outside the box are ignored.
+  OctreeLattice(const Parallelepiped& box, const Eigen::Matrix3Xd& region, const OctreeOptions& options);
+
+  const Parallelepiped& box() const { return box_; }
+  const OctreeOptions& options() const { return options_; }
+  int num_levels() const { return static_cast<int>(levels_.size()); }
+  const GridComplex& complex(int level) const { return levels_[level].sub[0]; }
+  /// Cells of refine(level - 1) cut because they hold no region vertex (0 at level 0).
+  std::size_t cut_cells(int level) const { return levels_[level].cut; }
+  /// Rest positions of the level's points (columns, in `complex(level).points` order).
+  const Eigen::Matrix3Xd& rest_points(int level) const { return levels_[level].rest; }
+  /// The level's points as shown and moved: rest + O(coarser deformation) + own moves.
+  Eigen::Matrix3Xd points(int level) const;
+  /// Index of the level's point at grid node `node`, or -1.
+  std::int32_t point_index(int level, const GridIndex& node) const { return complex(level).point(node); }
+
+  /// Moves the level's points `ids` to `targets` (shown positions) and brings the
+  /// subdivided displacement fields up to date (N_{S,4}), marking N_{S,3} as changed.
+  OctreeMove move_points(int level, const std::vector<std::int32_t>& ids, const std::vector<Eigen::Vector3d>& targets);
+  /// The weights at x of the level's points: F(x) changes by sum w_j d_j when point j's
+  /// shown position moves by d_j. Empty when x lies in no cell of the level.
+  void point_weights(int level, const Eigen::Vector3d& x, std::vector<std::pair<std::int32_t, double>>& out) const;
+  /// Bytes held by the levels and their Catmull-Clark subdivisions.
+  std::size_t bytes() const;
+
+  // Warp
+  Eigen::Vector3d apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const override;
+  void apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
+             const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+             Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const override;
+  void changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, std::vector<std::uint32_t>& ids) const override;
+  bool has_changes() const override { return any_changed_; }
+  void clear_changes() override;
+  bool can_act_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override;
+  double feature_size() const override;
+
+  /// Where x lies in level `level`'s subdivided rest lattices: step k, cell, coordinates.
+  struct Location {
+    int step = -1;
+    std::int32_t cell = -1;
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  };
+  /// False when x lies in no cell of C^k(R_level) for any k.
+  bool locate(int level, const Eigen::Vector3d& x, Location& where) const;
+  /// The k-th Catmull-Clark subdivision of the level's rest lattice (k = 0: the level),
+  /// built on first use. Positions: `subdivided_rest`.
+  const GridComplex& subdivided(int level, int k) const;
+  const Eigen::Matrix3Xd& subdivided_rest(int level, int k) const;
+
+private:
+  struct Level {
+    std::vector<GridComplex> sub;          // sub[k] = C^k topology; sub[0] the level itself
+    std::vector<Eigen::Matrix3Xd> fine;    // fine[k] = C^k(R_l) positions (built on first use)
+    std::vector<Eigen::Matrix3Xd> disp;    // disp[k] = C^k(delta_l)
+    Eigen::Matrix3Xd rest, delta;
+    std::vector<std::uint8_t> changed;     // dense over the level's whole grid: N_{S,3} marks
+    std::size_t cut = 0;
+    bool moved = false;
+  };
+  void build_levels(const Eigen::Matrix3Xd& region);
+  void shrink_level(int level, const Eigen::Matrix3Xd& box_coords);
+  void ensure_subdivided(int level) const;
+  void update_displacements(int level, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change,
+                            OctreeMove& report);
+  void mark_changed(int level, const std::vector<std::int32_t>& ids, OctreeMove& report);
+  Eigen::Vector3d displacement(int level, const Location& where, Eigen::Matrix3d* jacobian) const;
+
+  Parallelepiped box_;
+  OctreeOptions options_;
+  mutable std::vector<Level> levels_;
+  bool any_changed_ = false;
+};
+
+}  // namespace ffd

@@ -1,0 +1,167 @@
+// OctreeLattice as a Warp: parameterization in the subdivided rest lattices and
+// relocation by the subdivided displacements (Ono et al. section 3.2).
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "multires/cell_coordinates.h"
+#include "multires/octree_lattice.h"
+#include "multires/volume_subdivision.h"
+
+namespace ffd {
+namespace {
+
+constexpr double kInsideTolerance = 1e-9;
+constexpr int kMaxWalk = 8;
+
+CellCorners corners_of(const GridComplex& g, const Eigen::Matrix3Xd& positions, std::int32_t cell) {
+  CellCorners Q;
+  for (int c = 0; c < 8; ++c) Q.col(c) = positions.col(g.corner(static_cast<std::size_t>(cell), c));
+  return Q;
+}
+
+}  // namespace
+
+bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, Location& where) const {
+  const Level& level = levels_[l];
+  const Eigen::Vector3d t = box_.to_local(x);
+  if (!in_unit_cube(t, kInsideTolerance)) return false;
+  // The minimal cell: the finest subdivision whose lattice holds x. A cell of C^k lies
+  // near the grid cell of x at its resolution; from there, walk toward x by the sign of
+  // the local coordinates outside [0, 1] (cells near cuts and shrunk points are bent).
+  for (int k = static_cast<int>(level.sub.size()) - 1; k >= 0; --k) {
+    const GridComplex& g = level.sub[k];
+    const int res = g.resolution;
+    GridIndex c;
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
+    for (int step = 0; step < kMaxWalk; ++step) {
+      const std::int32_t cell = g.cell(c[0], c[1], c[2]);
+      if (cell < 0) break;
+      Eigen::Vector3d u;
+      if (!inverse_trilinear(corners_of(g, level.fine[k], cell), x, u)) break;
+      if (in_unit_cube(u, kInsideTolerance)) {
+        where = {k, cell, u.cwiseMax(0.0).cwiseMin(1.0)};
+        return true;
+      }
+      for (int a = 0; a < 3; ++a) c[a] += u[a] < -kInsideTolerance ? -1 : u[a] > 1 + kInsideTolerance ? 1 : 0;
+    }
+  }
+  return false;
+}
+
+Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen::Matrix3d* jacobian) const {
+  const Level& level = levels_[l];
+  const GridComplex& g = level.sub[where.step];
+  double w[8];
+  Eigen::Matrix<double, 8, 3> dw;
+  trilinear_weights(where.u, w, jacobian ? &dw : nullptr);
+  const CellCorners D = corners_of(g, level.disp[where.step], where.cell);
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
+  for (int c = 0; c < 8; ++c) d += w[c] * D.col(c);
+  if (jacobian) {
+    // dF/dx = I + (dD/du) (dx/du)^-1, dx/du from the rest cell.
+    const Eigen::Matrix3d dx_du = corners_of(g, level.fine[where.step], where.cell) * dw;
+    *jacobian += (D * dw) * dx_du.inverse();
+  }
+  return d;
+}
+
+Eigen::Vector3d OctreeLattice::apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const {
+  if (jacobian) jacobian->setIdentity();
+  Eigen::Vector3d y = x;
+  for (int l = 0; l < num_levels(); ++l) {
+    if (!levels_[l].moved) continue;
+    Location where;
+    if (locate(l, x, where)) y += displacement(l, where, jacobian);
+  }
+  return y;
+}
+
+void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
+                          const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                          Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const {
+  std::size_t folded = 0, evaluated = 0;
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size());
+#pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const std::uint32_t v = ids[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d x = in_pos.col(v);
+    Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d y = x;
+    bool inside = false;
+    for (int l = 0; l < num_levels(); ++l) {
+      Location where;
+      if (!levels_[l].moved || !locate(l, x, where)) continue;
+      y += displacement(l, where, &J);
+      inside = true;
+    }
+    out_pos.col(v) = y;
+    if (!inside) {  // in no cell of a moved level: untouched, bit for bit
+      out_nrm.col(v) = in_nrm.col(v);
+      continue;
+    }
+    const Eigen::Vector3d m = cofactor_times(J, in_nrm.col(v));
+    const double len = m.norm();
+    out_nrm.col(v) = len > 0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
+    folded += J.determinant() <= 0;
+    ++evaluated;
+  }
+  counts.folded += folded;
+  counts.evaluated += evaluated;
+}
+
+void OctreeLattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                   std::vector<std::uint32_t>& ids) const {
+  if (!any_changed_) return;
+  for (Eigen::Index v = 0; v < in_pos.cols(); ++v) {
+    const Eigen::Vector3d t = box_.to_local(in_pos.col(v));
+    if (!in_unit_cube(t, kInsideTolerance)) continue;
+    for (const Level& level : levels_) {
+      const int res = level.sub[0].resolution;
+      GridIndex c;
+      for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
+      if (level.changed[(static_cast<std::size_t>(c[2]) * res + c[1]) * res + c[0]]) {
+        ids.push_back(static_cast<std::uint32_t>(v));
+        break;
+      }
+    }
+  }
+}
+
+bool OctreeLattice::can_act_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+  const bool moved = std::any_of(levels_.begin(), levels_.end(), [](const Level& l) { return l.moved; });
+  return moved && box_.segment_meets(a, b, kInsideTolerance);
+}
+
+double OctreeLattice::feature_size() const {
+  return box_.extents().minCoeff() / levels_.back().sub[0].resolution;
+}
+
+void OctreeLattice::point_weights(int l, const Eigen::Vector3d& x,
+                                  std::vector<std::pair<std::int32_t, double>>& out) const {
+  out.clear();
+  ensure_subdivided(l);
+  Location where;
+  if (!locate(l, x, where)) return;
+  const Level& level = levels_[l];
+  double w[8];
+  trilinear_weights(where.u, w, nullptr);
+  std::map<std::int32_t, double> weights;
+  for (int c = 0; c < 8; ++c) weights[level.sub[where.step].corner(static_cast<std::size_t>(where.cell), c)] += w[c];
+  // Back through the Catmull-Clark steps: each subdivided point is a stencil of the
+  // points one step coarser.
+  Stencil stencil;
+  for (int k = where.step; k >= 1; --k) {
+    std::map<std::int32_t, double> coarser;
+    for (const auto& [p, wp] : weights) {
+      subdivision_stencil(level.sub[k - 1], level.sub[k].points[static_cast<std::size_t>(p)],
+                          SubdivisionRule::CatmullClark, stencil);
+      for (const auto& [q, wq] : stencil) coarser[q] += wp * wq;
+    }
+    weights = std::move(coarser);
+  }
+  for (const auto& [p, wp] : weights)
+    if (wp != 0) out.push_back({p, wp});
+}
+
+}  // namespace ffd

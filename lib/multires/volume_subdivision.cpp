@@ -1,0 +1,188 @@
+#include "multires/volume_subdivision.h"
+
+namespace ffd {
+namespace {
+
+GridIndex shifted(GridIndex n, int axis, int by) {
+  n[axis] += by;
+  return n;
+}
+
+/// Adds weighted points, centroids and midpoints of a coarse complex to a stencil.
+struct StencilBuilder {
+  const GridComplex& g;
+  Stencil& out;
+
+  void point(const GridIndex& n, double w) { out.push_back({g.point(n), w}); }
+  /// Centroid of the cell whose first corner is `c`.
+  void cell(const GridIndex& c, double w) {
+    for (int k = 0; k < 8; ++k) point({c[0] + (k & 1), c[1] + ((k >> 1) & 1), c[2] + ((k >> 2) & 1)}, w / 8);
+  }
+  /// Centroid of the face across `axis` whose first corner is `f`.
+  void face(const GridIndex& f, int axis, double w) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int k = 0; k < 4; ++k) point(shifted(shifted(f, u, k & 1), v, k >> 1), w / 4);
+  }
+  /// Midpoint of the edge along `axis` from node `e`.
+  void edge(const GridIndex& e, int axis, double w) {
+    point(e, w / 2);
+    point(shifted(e, axis, 1), w / 2);
+  }
+};
+
+bool present(const GridComplex& g, const GridIndex& c) { return g.has_cell(c[0], c[1], c[2]); }
+
+/// The cells around the edge along `axis` from node `e`: c[0] = e, c[1] = e - u, c[2] = e - v,
+/// c[3] = e - u - v (u, v the other axes).
+struct EdgeRing {
+  GridIndex cell[4];
+  bool in[4];
+  int count = 0;
+  EdgeRing(const GridComplex& g, const GridIndex& e, int axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    cell[0] = e;
+    cell[1] = shifted(e, u, -1);
+    cell[2] = shifted(e, v, -1);
+    cell[3] = shifted(cell[1], v, -1);
+    for (int k = 0; k < 4; ++k) count += in[k] = present(g, cell[k]);
+  }
+  bool exists() const { return count > 0; }
+  bool interior() const { return count == 4; }
+  /// A sharp edge: in one cell only, or shared by two cells that meet only along it
+  /// (a non-manifold edge of the boundary, which we keep as a crease).
+  bool sharp() const { return count == 1 || (count == 2 && ((in[0] && in[3]) || (in[1] && in[2]))); }
+};
+
+/// The four faces around an edge, each as (first corner, normal axis, its two cells in EdgeRing order).
+struct EdgeFace {
+  GridIndex corner;
+  int axis, a, b;
+};
+void edge_faces(const GridIndex& e, int axis, EdgeFace out[4]) {
+  const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+  out[0] = {e, v, 0, 2};                  // spans axis and +u, across v
+  out[1] = {shifted(e, u, -1), v, 1, 3};  // spans axis and -u
+  out[2] = {e, u, 0, 1};                  // spans axis and +v, across u
+  out[3] = {shifted(e, v, -1), u, 2, 3};  // spans axis and -v
+}
+
+void edge_stencil(const GridComplex& g, const GridIndex& e, int axis, StencilBuilder& s) {
+  const EdgeRing ring(g, e, axis);
+  if (ring.interior()) {  // E = (C_avg + 2 A_avg + (n - 3) M) / n with n = 4 faces
+    for (int k = 0; k < 4; ++k) s.cell(ring.cell[k], 1.0 / 16);
+    EdgeFace faces[4];
+    edge_faces(e, axis, faces);
+    for (const EdgeFace& f : faces) s.face(f.corner, f.axis, 2.0 / 16);
+    s.edge(e, axis, 1.0 / 4);
+    return;
+  }
+  if (ring.sharp()) return s.edge(e, axis, 1.0);  // sharp edge: its midpoint
+  // Catmull-Clark surface rule on the boundary: (P0 + P1 + F0 + F1) / 4, the F being the
+  // face points (centroids) of the boundary faces at the edge.
+  EdgeFace faces[4];
+  edge_faces(e, axis, faces);
+  int boundary = 0;
+  for (const EdgeFace& f : faces) boundary += ring.in[f.a] != ring.in[f.b];
+  s.edge(e, axis, 0.5);
+  for (const EdgeFace& f : faces)
+    if (ring.in[f.a] != ring.in[f.b]) s.face(f.corner, f.axis, 0.5 / boundary);
+}
+
+/// The vertex point of a boundary point p (fewer than 8 cells around it).
+void boundary_vertex_stencil(const GridComplex& g, const GridIndex& p, StencilBuilder& s) {
+  int sharp = 0, boundary_edges = 0;
+  GridIndex sharp_edge[6];
+  int sharp_axis[6];
+  for (int axis = 0; axis < 3; ++axis)
+    for (int dir = 0; dir < 2; ++dir) {
+      const GridIndex e = dir ? shifted(p, axis, -1) : p;
+      const EdgeRing ring(g, e, axis);
+      if (!ring.exists()) continue;
+      if (ring.sharp()) sharp_edge[sharp] = e, sharp_axis[sharp++] = axis;
+      boundary_edges += !ring.interior();
+    }
+  if (sharp >= 3 || boundary_edges < 3) return s.point(p, 1.0);  // a corner point: kept
+  if (sharp == 2) {  // a sharp point: (M1 + 2P + M2) / 4
+    s.point(p, 0.5);
+    s.edge(sharp_edge[0], sharp_axis[0], 0.25);
+    s.edge(sharp_edge[1], sharp_axis[1], 0.25);
+    return;
+  }
+  // Catmull-Clark surface rule: (Q + 2R + (n - 3) P) / n over the boundary faces and edges.
+  std::vector<std::pair<GridIndex, int>> faces;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int k = 0; k < 4; ++k) {
+      const GridIndex f = shifted(shifted(p, (axis + 1) % 3, -(k & 1)), (axis + 2) % 3, -(k >> 1));
+      if (present(g, f) != present(g, shifted(f, axis, -1))) faces.push_back({f, axis});
+    }
+  const double n = boundary_edges;
+  for (const auto& [f, axis] : faces) s.face(f, axis, 1.0 / (n * static_cast<double>(faces.size())));
+  for (int axis = 0; axis < 3; ++axis)
+    for (int dir = 0; dir < 2; ++dir) {
+      const GridIndex e = dir ? shifted(p, axis, -1) : p;
+      const EdgeRing ring(g, e, axis);
+      if (ring.exists() && !ring.interior()) s.edge(e, axis, 2.0 / (n * n));
+    }
+  s.point(p, (n - 3) / n);
+}
+
+void vertex_stencil(const GridComplex& g, const GridIndex& p, StencilBuilder& s) {
+  int cells = 0;
+  for (int k = 0; k < 8; ++k) cells += present(g, {p[0] - (k & 1), p[1] - ((k >> 1) & 1), p[2] - ((k >> 2) & 1)});
+  if (cells == 1) return s.point(p, 1.0);  // a corner point stays where it is
+  if (cells < 8) return boundary_vertex_stencil(g, p, s);
+  // V = (C_avg + 3 A_avg + 3 M_avg + P) / 8: 8 cells, 12 faces, 6 edges.
+  for (int k = 0; k < 8; ++k) s.cell({p[0] - (k & 1), p[1] - ((k >> 1) & 1), p[2] - ((k >> 2) & 1)}, 1.0 / 64);
+  for (int axis = 0; axis < 3; ++axis)
+    for (int k = 0; k < 4; ++k)
+      s.face(shifted(shifted(p, (axis + 1) % 3, -(k & 1)), (axis + 2) % 3, -(k >> 1)), axis, 3.0 / 96);
+  for (int axis = 0; axis < 3; ++axis) {
+    s.edge(p, axis, 3.0 / 48);
+    s.edge(shifted(p, axis, -1), axis, 3.0 / 48);
+  }
+  s.point(p, 1.0 / 8);
+}
+
+}  // namespace
+
+void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out) {
+  out.clear();
+  StencilBuilder s{coarse, out};
+  const GridIndex base{node[0] >> 1, node[1] >> 1, node[2] >> 1};
+  const int odd = (node[0] & 1) + (node[1] & 1) + (node[2] & 1);
+  const bool cc = rule == SubdivisionRule::CatmullClark;
+  if (odd == 3) return s.cell(base, 1.0);
+  if (odd == 2) {
+    const int axis = (node[0] & 1) == 0 ? 0 : (node[1] & 1) == 0 ? 1 : 2;
+    const bool two = present(coarse, base) && present(coarse, shifted(base, axis, -1));
+    if (!cc || !two) return s.face(base, axis, 1.0);
+    s.cell(base, 0.25);  // F = (C0 + 2A + C1) / 4
+    s.cell(shifted(base, axis, -1), 0.25);
+    return s.face(base, axis, 0.5);
+  }
+  if (odd == 1) {
+    const int axis = (node[0] & 1) ? 0 : (node[1] & 1) ? 1 : 2;
+    if (!cc) return s.edge(base, axis, 1.0);
+    return edge_stencil(coarse, base, axis, s);
+  }
+  if (!cc) return s.point(base, 1.0);
+  vertex_stencil(coarse, base, s);
+}
+
+Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
+                                SubdivisionRule rule) {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(X.rows(), static_cast<Eigen::Index>(fine.num_points()));
+  const long long n = static_cast<long long>(fine.num_points());
+#pragma omp parallel
+  {
+    Stencil stencil;
+#pragma omp for schedule(static)
+    for (long long f = 0; f < n; ++f) {
+      subdivision_stencil(coarse, fine.points[static_cast<std::size_t>(f)], rule, stencil);
+      for (const auto& [p, w] : stencil) out.col(f) += w * X.col(p);
+    }
+  }
+  return out;
+}
+
+}  // namespace ffd

@@ -1,0 +1,42 @@
+// The point rules of one subdivision step of a GridComplex: Ono et al.'s octree
+// subdivision (section 2.1) and MacCracken & Joy's Catmull-Clark subdivision volumes
+// (Ono et al.'s appendix, with its boundary rules). Both produce the connectivity of
+// refine(); they differ only in where the new points go.
+//
+// A new point is named by its node at twice the coarse resolution. The parity of its
+// coordinates says what it was made for: all even, the coarse point at half the
+// coordinates (vertex point); one odd, the edge along that axis; two odd, the face across
+// the even axis; three odd, the cell.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "multires/grid_complex.h"
+
+namespace ffd {
+
+enum class SubdivisionRule {
+  Octree,        // cell and face points: averages; edge points: midpoints; old points kept
+  CatmullClark,  // the appendix's volume rules, its boundary rules and surface rules
+};
+
+/// Coarse point indices and weights (they sum to 1) of one new point.
+using Stencil = std::vector<std::pair<std::int32_t, double>>;
+
+/// The weights of the coarse points that place the new point at `node` (twice the
+/// coarse resolution), replacing `out`. The node must be a corner of a child of a cell of
+/// `coarse`.
+void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out);
+
+/// The field on the points of `fine` (a sub-complex of refine(coarse), or all of it) from
+/// the field X on the points of `coarse` (one column per point, any number of rows: the
+/// rules are linear, so positions and displacements subdivide alike). Deterministic for
+/// any thread count.
+Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
+                                SubdivisionRule rule);
+
+}  // namespace ffd

@@ -1,0 +1,305 @@
+// Octree lattices and Catmull-Clark subdivision volumes (lib/multires): the properties of
+// Ono et al.'s multiresolution FFD that could fail.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "multires/cell_coordinates.h"
+#include "multires/octree_lattice.h"
+#include "multires/volume_subdivision.h"
+#include "test_meshes.h"
+#include "warp/box_fit.h"
+#include "warp/bspline_lattice.h"
+
+namespace ffd {
+namespace {
+
+/// Points filling the unit cube on an m^3 grid of cell centres (no cell is cut).
+Eigen::Matrix3Xd filling_points(int m) {
+  Eigen::Matrix3Xd p(3, m * m * m);
+  int n = 0;
+  for (int k = 0; k < m; ++k)
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) p.col(n++) = (Eigen::Vector3d(i, j, k) + Eigen::Vector3d::Constant(0.5)) / m;
+  return p;
+}
+
+Parallelepiped unit_box() { return Parallelepiped::from_min_max(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones()); }
+
+OctreeOptions options(int levels, int cc_steps) {
+  OctreeOptions o;
+  o.levels = levels;
+  o.cc_steps = cc_steps;
+  return o;
+}
+
+/// The bunny's vertices, and an octree lattice around them on their principal box.
+struct BunnyLattice {
+  Mesh mesh = test::bunny();
+  Eigen::Matrix3Xd x = mesh.positions();
+  Parallelepiped box = fit_principal_box(x, {}, 0.05);
+};
+
+void move_one(OctreeLattice& lattice, int level, const GridIndex& node, const Eigen::Vector3d& by) {
+  const std::int32_t id = lattice.point_index(level, node);
+  ASSERT_GE(id, 0);
+  lattice.move_points(level, {id}, {Eigen::Vector3d(lattice.points(level).col(id) + by)});
+}
+
+TEST(VolumeSubdivision, StencilsAreAffineCombinations) {
+  const GridComplex g = make_grid_complex(4, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {2, 1, 1}, {3, 3, 3}, {2, 2, 2}});
+  const GridComplex fine = refine(g);
+  Stencil s;
+  for (SubdivisionRule rule : {SubdivisionRule::Octree, SubdivisionRule::CatmullClark})
+    for (const GridIndex& node : fine.points) {
+      subdivision_stencil(g, node, rule, s);
+      double sum = 0;
+      for (const auto& [p, w] : s) {
+        ASSERT_GE(p, 0);
+        sum += w;
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-15);
+    }
+}
+
+TEST(VolumeSubdivision, ARegularBoxLatticeStaysRegular) {
+  // Linear precision: every rule (interior, boundary surface, sharp edges and points,
+  // corners) reproduces a regular grid, so C^k of a box is the finer grid.
+  const OctreeLattice lattice(unit_box(), filling_points(8), options(2, 3));
+  for (int k = 0; k <= 3; ++k) {
+    const GridComplex& g = lattice.subdivided(2, k);
+    const Eigen::Matrix3Xd& x = lattice.subdivided_rest(2, k);
+    double worst = 0;
+    for (std::size_t p = 0; p < g.num_points(); ++p)
+      worst = std::max(worst, (x.col(static_cast<Eigen::Index>(p)) -
+                               Eigen::Vector3d(g.points[p][0], g.points[p][1], g.points[p][2]) / g.resolution)
+                                  .norm());
+    EXPECT_LT(worst, 1e-14) << "k = " << k;
+  }
+}
+
+TEST(OctreeLattice, CutCellsHoldNoVertexAndEveryVertexLiesInACell) {
+  BunnyLattice b;
+  for (double shrink : {-1.0, 0.002}) {
+    OctreeOptions o = options(4, 2);
+    o.shrink = shrink;
+    const OctreeLattice lattice(b.box, b.x, o);
+    for (int l = 0; l <= 4; ++l) {
+      const GridComplex& g = lattice.complex(l);
+      const Eigen::Matrix3Xd& rest = lattice.rest_points(l);
+      std::vector<int> holds(g.num_cells(), 0);
+      std::size_t outside = 0;
+      for (Eigen::Index v = 0; v < b.x.cols(); ++v) {
+        // Geometrically: the vertex's coordinates in some cell of the rest lattice.
+        bool found = false;
+        const Eigen::Vector3d t = b.box.to_local(b.x.col(v));
+        GridIndex c;
+        for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * g.resolution)), 0, g.resolution - 1);
+        for (int dk = -1; dk <= 1 && !found; ++dk)
+          for (int dj = -1; dj <= 1 && !found; ++dj)
+            for (int di = -1; di <= 1 && !found; ++di) {
+              const std::int32_t cell = g.cell(c[0] + di, c[1] + dj, c[2] + dk);
+              if (cell < 0) continue;
+              CellCorners Q;
+              for (int q = 0; q < 8; ++q) Q.col(q) = rest.col(g.corner(static_cast<std::size_t>(cell), q));
+              Eigen::Vector3d u;
+              const bool ok = inverse_trilinear(Q, b.x.col(v), u);
+              if (ok && in_unit_cube(u, 1e-9)) found = true, holds[cell] = 1;
+            }
+        outside += !found;
+      }
+      EXPECT_EQ(outside, 0u) << "level " << l << " shrink " << shrink;
+      // Cut cells are not in the complex; every kept cell holds a vertex.
+      EXPECT_EQ(std::count(holds.begin(), holds.end(), 0), 0) << "level " << l;
+      if (l > 0) {
+        EXPECT_EQ(g.num_cells() + lattice.cut_cells(l), 8 * lattice.complex(l - 1).num_cells());
+      }
+    }
+    EXPECT_GT(lattice.cut_cells(4), 0u);
+  }
+}
+
+TEST(OctreeLattice, AnUnmovedLatticeIsTheIdentity) {
+  BunnyLattice b;
+  for (int n = 0; n <= 3; ++n) {
+    OctreeLattice lattice(b.box, b.x, options(3, n));
+    // A zero move builds every subdivision and displacement; still the identity, exactly.
+    move_one(lattice, 3, lattice.complex(3).points[40], Eigen::Vector3d::Zero());
+    double worst = 0;
+    std::size_t changed = 0;
+    for (Eigen::Index v = 0; v < b.x.cols(); ++v) {
+      const Eigen::Vector3d y = lattice.apply(b.x.col(v), nullptr);
+      worst = std::max(worst, (y - b.x.col(v)).norm());
+      changed += (y.array() != b.x.col(v).array()).any();
+    }
+    std::printf("[identity] cc_steps %d: max |F(x) - x| = %g over %td vertices\n", n, worst, b.x.cols());
+    EXPECT_EQ(changed, 0u);
+  }
+}
+
+TEST(OctreeLattice, ConvergesToTheCubicBSplineFfdAboutFourTimesPerStep) {
+  // A regular 8^3 lattice: the volume rules are the tricubic B-spline subdivision masks,
+  // so C^n of a moved interior point tends to the cubic B-spline FFD of the same points.
+  const Parallelepiped box = unit_box();
+  BSplineLattice bspline(box, {8, 8, 8}, 3);
+  bspline.move_point({4, 4, 4}, bspline.point({4, 4, 4}) + Eigen::Vector3d(0.05, -0.03, 0.04));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> near(0.5 - 0.15, 0.5 + 0.15);
+  std::vector<Eigen::Vector3d> samples(500);
+  for (auto& s : samples) s = Eigen::Vector3d(near(rng), near(rng), near(rng));
+  std::vector<double> error;
+  for (int n = 1; n <= 4; ++n) {
+    OctreeLattice lattice(box, filling_points(8), options(3, n));
+    move_one(lattice, 3, {4, 4, 4}, Eigen::Vector3d(0.05, -0.03, 0.04));
+    double worst = 0;
+    for (const Eigen::Vector3d& s : samples)
+      worst = std::max(worst, (lattice.apply(s, nullptr) - bspline.apply(s, nullptr)).norm());
+    error.push_back(worst);
+    std::printf("[convergence] cc_steps %d: max |C^n FFD - B-spline FFD| = %.3e%s\n", n, worst,
+                n > 1 ? (" (ratio " + std::to_string(error[n - 2] / worst) + ")").c_str() : "");
+  }
+  for (std::size_t i = 1; i < error.size(); ++i) {
+    EXPECT_GT(error[i - 1] / error[i], 3.0);
+    EXPECT_LT(error[i - 1] / error[i], 5.5);
+  }
+}
+
+TEST(OctreeLattice, MovingOnePointChangesOnlyVerticesInItsNeighbourhood) {
+  BunnyLattice b;
+  OctreeOptions o = options(4, 2);
+  o.whole_level_cells = 0;  // always N_{S,4}
+  OctreeLattice lattice(b.box, b.x, o);
+  const GridComplex& g = lattice.complex(4);
+  const GridIndex node = g.points[g.num_points() / 2];
+  move_one(lattice, 4, node, Eigen::Vector3d(0.01, 0.02, -0.01));
+  std::vector<std::uint32_t> marked;
+  lattice.changed_points(b.x, marked);
+  std::vector<char> in_marked(static_cast<std::size_t>(b.x.cols()), 0);
+  for (std::uint32_t v : marked) in_marked[v] = 1;
+  std::size_t moved = 0, moved_unmarked = 0, outside_ring = 0;
+  for (Eigen::Index v = 0; v < b.x.cols(); ++v) {
+    const Eigen::Vector3d y = lattice.apply(b.x.col(v), nullptr);
+    const bool same = (y.array() == b.x.col(v).array()).all();
+    moved += !same;
+    moved_unmarked += !same && !in_marked[static_cast<std::size_t>(v)];
+    // N_{p,3}: the cells within 2 cells of those around p.
+    const Eigen::Vector3d t = b.box.to_local(b.x.col(v)) * g.resolution;
+    bool near = true;
+    for (int a = 0; a < 3; ++a) near = near && std::floor(t[a]) >= node[a] - 3 && std::floor(t[a]) <= node[a] + 2;
+    outside_ring += !same && !near;
+  }
+  std::printf("[locality] %zu vertices moved, %zu marked of %td\n", moved, marked.size(), b.x.cols());
+  EXPECT_GT(moved, 0u);
+  EXPECT_EQ(moved_unmarked, 0u);
+  EXPECT_EQ(outside_ring, 0u);
+  EXPECT_LT(marked.size(), static_cast<std::size_t>(b.x.cols()) / 4);
+}
+
+TEST(OctreeLattice, LocalSubdivisionAgreesWithSubdividingTheWholeLevel) {
+  BunnyLattice b;
+  OctreeOptions local = options(4, 2), whole = options(4, 2);
+  local.whole_level_cells = 0;
+  whole.whole_level_cells = 1u << 30;
+  OctreeLattice a(b.box, b.x, local), c(b.box, b.x, whole);
+  const GridComplex& g = a.complex(4);
+  for (std::size_t p : {g.num_points() / 3, g.num_points() / 2, g.num_points() / 2 + 7}) {
+    move_one(a, 4, g.points[p], Eigen::Vector3d(0.01, 0.0, 0.015));
+    move_one(c, 4, g.points[p], Eigen::Vector3d(0.01, 0.0, 0.015));
+  }
+  double worst = 0;
+  for (Eigen::Index v = 0; v < b.x.cols(); ++v)
+    worst = std::max(worst, (a.apply(b.x.col(v), nullptr) - c.apply(b.x.col(v), nullptr)).norm());
+  EXPECT_LT(worst, 1e-14);
+}
+
+TEST(OctreeLattice, JacobianMatchesFiniteDifferences) {
+  BunnyLattice b;
+  OctreeLattice lattice(b.box, b.x, options(2, 2));
+  const GridComplex& g = lattice.complex(2);
+  for (std::size_t p = 0; p < g.num_points(); p += 3)
+    move_one(lattice, 2, g.points[p], Eigen::Vector3d(0.01 * std::sin(p), 0.01 * std::cos(p), 0.005));
+  double worst = 0;
+  const double h = 1e-6;
+  for (Eigen::Index v = 0; v < b.x.cols(); v += 97) {
+    const Eigen::Vector3d x = b.x.col(v);
+    Eigen::Matrix3d J;
+    lattice.apply(x, &J);
+    Eigen::Matrix3d fd;
+    for (int a = 0; a < 3; ++a) {
+      const Eigen::Vector3d e = Eigen::Vector3d::Unit(a) * h;
+      fd.col(a) = (lattice.apply(x + e, nullptr) - lattice.apply(x - e, nullptr)) / (2 * h);
+    }
+    worst = std::max(worst, (J - fd).norm());
+  }
+  EXPECT_LT(worst, 1e-5);
+}
+
+TEST(OctreeLattice, TheDeformationIsContinuousAcrossCellFaces) {
+  BunnyLattice b;
+  OctreeLattice lattice(b.box, b.x, options(3, 2));
+  const GridComplex& g = lattice.complex(3);
+  for (std::size_t p = 0; p < g.num_points(); p += 5)
+    move_one(lattice, 3, g.points[p], Eigen::Vector3d(0.02, -0.01, 0.01));
+  // Pairs of points 2e-9 apart across the faces between fine cells inside the lattice.
+  const GridComplex& fine = lattice.subdivided(3, 2);
+  double worst = 0;
+  const int res = fine.resolution;
+  for (std::size_t c = 0; c < fine.num_cells(); c += 11) {
+    const GridIndex& cell = fine.cells[c];
+    if (!fine.has_cell(cell[0] + 1, cell[1], cell[2])) continue;
+    const Eigen::Vector3d t = (Eigen::Vector3d(cell[0] + 1, cell[1] + 0.37, cell[2] + 0.61)) / res;
+    const Eigen::Vector3d x = b.box.to_world(t);
+    const Eigen::Vector3d e = b.box.axes().col(0) * 1e-9;
+    worst = std::max(worst, (lattice.apply(x + e, nullptr) - lattice.apply(x - e, nullptr)).norm());
+  }
+  EXPECT_LT(worst, 1e-7);
+}
+
+TEST(OctreeLattice, ChangingLevelDoesNotMoveTheModel) {
+  BunnyLattice b;
+  OctreeLattice lattice(b.box, b.x, options(3, 2));
+  const GridComplex& g1 = lattice.complex(1);
+  move_one(lattice, 1, g1.points[g1.num_points() / 2], Eigen::Vector3d(0.0, 0.05, 0.02));
+  std::vector<Eigen::Vector3d> before;
+  for (Eigen::Index v = 0; v < b.x.cols(); ++v) before.push_back(lattice.apply(b.x.col(v), nullptr));
+  // Level 2 now shows the octree subdivision of the moved level 1.
+  const Eigen::Matrix3Xd shown = lattice.points(2);
+  EXPECT_GT((shown - lattice.rest_points(2)).cwiseAbs().maxCoeff(), 1e-3);
+  // Taking level 2 up (a zero move of a point) leaves the model where it was.
+  move_one(lattice, 2, lattice.complex(2).points[5], Eigen::Vector3d::Zero());
+  double worst = 0;
+  for (Eigen::Index v = 0; v < b.x.cols(); ++v)
+    worst = std::max(worst, (lattice.apply(b.x.col(v), nullptr) - before[static_cast<std::size_t>(v)]).norm());
+  EXPECT_LT(worst, 1e-9);
+  // Moving level 2 adds its own field: a point of level 2 moves the model near it.
+  const std::int32_t id = lattice.point_index(2, lattice.complex(2).points[lattice.complex(2).num_points() / 2]);
+  lattice.move_points(2, {id}, {Eigen::Vector3d(lattice.points(2).col(id) + Eigen::Vector3d(0.03, 0, 0))});
+  EXPECT_NEAR((lattice.points(2).col(id) - shown.col(id)).norm(), 0.03, 1e-12);
+}
+
+TEST(OctreeLattice, PointWeightsPredictTheDeformation) {
+  BunnyLattice b;
+  OctreeLattice lattice(b.box, b.x, options(2, 2));
+  std::vector<std::pair<std::int32_t, double>> w;
+  const Eigen::Vector3d x = b.x.col(1234);
+  lattice.point_weights(2, x, w);
+  ASSERT_FALSE(w.empty());
+  double sum = 0;
+  Eigen::Vector3d predicted = x;
+  const Eigen::Vector3d d(0.01, -0.02, 0.03);
+  for (const auto& [p, wp] : w) sum += wp;
+  EXPECT_NEAR(sum, 1.0, 1e-12);
+  // Move every weighted point by d: F(x) moves by d (partition of unity).
+  std::vector<std::int32_t> ids;
+  std::vector<Eigen::Vector3d> targets;
+  const Eigen::Matrix3Xd shown = lattice.points(2);
+  for (const auto& [p, wp] : w) ids.push_back(p), targets.push_back(shown.col(p) + d * (p % 3));
+  for (const auto& [p, wp] : w) predicted += wp * d * (p % 3);
+  lattice.move_points(2, ids, targets);
+  EXPECT_LT((lattice.apply(x, nullptr) - predicted).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace ffd
