@@ -27,8 +27,9 @@ Eigen::Vector3d trilinear(const CellCorners& Q, const Eigen::Vector3d& u, Eigen:
   return x;
 }
 
-bool inverse_trilinear(const CellCorners& Q, const Eigen::Vector3d& x, Eigen::Vector3d& u) {
-  u = Eigen::Vector3d::Constant(0.5);
+bool inverse_trilinear(const CellCorners& Q, const Eigen::Vector3d& x, Eigen::Vector3d& u,
+                       const Eigen::Vector3d& guess) {
+  u = guess;
   const double scale = (Q.rowwise().maxCoeff() - Q.rowwise().minCoeff()).maxCoeff();
   if (!(scale > 0)) return false;
   Eigen::Matrix3d J;

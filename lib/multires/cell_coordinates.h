@@ -15,10 +15,12 @@ void trilinear_weights(const Eigen::Vector3d& u, double w[8], Eigen::Matrix<doub
 /// sum_c w_c(u) Q_c, and its Jacobian d/du when asked.
 Eigen::Vector3d trilinear(const CellCorners& Q, const Eigen::Vector3d& u, Eigen::Matrix3d* jacobian);
 
-/// The u with trilinear(Q, u) = x, by Newton's method from the cell's centre (damped to
-/// stay near [0,1]^3). False when it does not converge or the map is singular there; u
-/// may then lie anywhere.
-bool inverse_trilinear(const CellCorners& Q, const Eigen::Vector3d& x, Eigen::Vector3d& u);
+/// The u with trilinear(Q, u) = x, by Newton's method with a line search from `guess`
+/// (the cell's centre by default; for a cell of a regular grid, the fractional grid
+/// position is exact and costs one evaluation). False when it does not converge or the
+/// map is singular there; u may then lie anywhere.
+bool inverse_trilinear(const CellCorners& Q, const Eigen::Vector3d& x, Eigen::Vector3d& u,
+                       const Eigen::Vector3d& guess = Eigen::Vector3d::Constant(0.5));
 
 /// Whether u lies in [0,1]^3 within `tolerance`.
 inline bool in_unit_cube(const Eigen::Vector3d& u, double tolerance) {

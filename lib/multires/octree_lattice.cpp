@@ -69,6 +69,7 @@ void OctreeLattice::build_levels(const Eigen::Matrix3Xd& region) {
     level.fine.push_back(level.rest);
     level.disp.push_back(level.delta);
     level.changed.assign(static_cast<std::size_t>(g.resolution) * g.resolution * g.resolution, 0);
+    level.active = level.changed;
   }
 }
 
@@ -217,7 +218,7 @@ void OctreeLattice::mark_changed(int l, const std::vector<std::int32_t>& ids, Oc
     for (int k = std::max(0, p[2] - 3); k <= std::min(res - 1, p[2] + 2); ++k)
       for (int j = std::max(0, p[1] - 3); j <= std::min(res - 1, p[1] + 2); ++j)
         for (int i = std::max(0, p[0] - 3); i <= std::min(res - 1, p[0] + 2); ++i)
-          level.changed[dense({i, j, k}, res)] = 1;
+          level.changed[dense({i, j, k}, res)] = level.active[dense({i, j, k}, res)] = 1;
   }
   report.cells_marked = 0;
   for (std::size_t c = 0; c < g.num_cells(); ++c) report.cells_marked += level.changed[dense(g.cells[c], res)];
@@ -234,7 +235,8 @@ std::size_t OctreeLattice::bytes() const {
     for (const GridComplex& g : level.sub) total += g.bytes();
     for (const Eigen::Matrix3Xd& m : level.fine) total += static_cast<std::size_t>(m.size()) * sizeof(double);
     for (const Eigen::Matrix3Xd& m : level.disp) total += static_cast<std::size_t>(m.size()) * sizeof(double);
-    total += static_cast<std::size_t>(level.rest.size() + level.delta.size()) * sizeof(double) + level.changed.size();
+    total += static_cast<std::size_t>(level.rest.size() + level.delta.size()) * sizeof(double) +
+             level.changed.size() + level.active.size();
   }
   return total;
 }

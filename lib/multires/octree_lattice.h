@@ -100,6 +100,8 @@ public:
   };
   /// False when x lies in no cell of C^k(R_level) for any k.
   bool locate(int level, const Eigen::Vector3d& x, Location& where) const;
+  /// The same for x at box coordinates t (box().to_local(x)).
+  bool locate(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Location& where) const;
   /// The k-th Catmull-Clark subdivision of the level's rest lattice (k = 0: the level),
   /// built on first use. Positions: `subdivided_rest`.
   const GridComplex& subdivided(int level, int k) const;
@@ -112,6 +114,7 @@ private:
     std::vector<Eigen::Matrix3Xd> disp;    // disp[k] = C^k(delta_l)
     Eigen::Matrix3Xd rest, delta;
     std::vector<std::uint8_t> changed;     // dense over the level's whole grid: N_{S,3} marks
+    std::vector<std::uint8_t> active;      // the same, never cleared: where D_l may be non-zero
     std::size_t cut = 0;
     bool moved = false;
   };
@@ -122,6 +125,9 @@ private:
                             OctreeMove& report);
   void mark_changed(int level, const std::vector<std::int32_t>& ids, OctreeMove& report);
   Eigen::Vector3d displacement(int level, const Location& where, Eigen::Matrix3d* jacobian) const;
+  /// F(x) - x summed over the moved levels, and whether x lies in a cell where some
+  /// level's displacement may be non-zero (if not, F(x) = x exactly).
+  bool displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const;
 
   Parallelepiped box_;
   OctreeOptions options_;

@@ -23,8 +23,11 @@ CellCorners corners_of(const GridComplex& g, const Eigen::Matrix3Xd& positions, 
 }  // namespace
 
 bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, Location& where) const {
+  return locate(l, x, box_.to_local(x), where);
+}
+
+bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Location& where) const {
   const Level& level = levels_[l];
-  const Eigen::Vector3d t = box_.to_local(x);
   if (!in_unit_cube(t, kInsideTolerance)) return false;
   // The minimal cell: the finest subdivision whose lattice holds x. A cell of C^k lies
   // near the grid cell of x at its resolution; from there, walk toward x by the sign of
@@ -37,8 +40,10 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, Location& where) con
     for (int step = 0; step < kMaxWalk; ++step) {
       const std::int32_t cell = g.cell(c[0], c[1], c[2]);
       if (cell < 0) break;
+      const Eigen::Vector3d guess =
+          (t * res - Eigen::Vector3d(c[0], c[1], c[2])).cwiseMax(0.0).cwiseMin(1.0);  // exact on a regular grid
       Eigen::Vector3d u;
-      if (!inverse_trilinear(corners_of(g, level.fine[k], cell), x, u)) break;
+      if (!inverse_trilinear(corners_of(g, level.fine[k], cell), x, u, guess)) break;
       if (in_unit_cube(u, kInsideTolerance)) {
         where = {k, cell, u.cwiseMax(0.0).cwiseMin(1.0)};
         return true;
@@ -66,15 +71,32 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
   return d;
 }
 
-Eigen::Vector3d OctreeLattice::apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const {
+bool OctreeLattice::displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const {
+  d.setZero();
   if (jacobian) jacobian->setIdentity();
-  Eigen::Vector3d y = x;
-  for (int l = 0; l < num_levels(); ++l) {
-    if (!levels_[l].moved) continue;
+  const Eigen::Vector3d t = box_.to_local(x);
+  if (!in_unit_cube(t, kInsideTolerance)) return false;
+  bool inside = false;
+  for (const Level& level : levels_) {
+    if (!level.moved) continue;
+    // Outside the cells any move marked, D_l is zero: skip the search.
+    const int res = level.sub[0].resolution;
+    GridIndex c;
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
+    if (!level.active[(static_cast<std::size_t>(c[2]) * res + c[1]) * res + c[0]]) continue;
+    const int l = static_cast<int>(&level - levels_.data());
     Location where;
-    if (locate(l, x, where)) y += displacement(l, where, jacobian);
+    if (!locate(l, x, t, where)) continue;
+    d += displacement(l, where, jacobian);
+    inside = true;
   }
-  return y;
+  return inside;
+}
+
+Eigen::Vector3d OctreeLattice::apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const {
+  Eigen::Vector3d d;
+  if (!displacement(x, d, jacobian)) return x;
+  return x + d;
 }
 
 void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
@@ -86,20 +108,14 @@ void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, cons
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const std::uint32_t v = ids[static_cast<std::size_t>(i)];
     const Eigen::Vector3d x = in_pos.col(v);
-    Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d y = x;
-    bool inside = false;
-    for (int l = 0; l < num_levels(); ++l) {
-      Location where;
-      if (!levels_[l].moved || !locate(l, x, where)) continue;
-      y += displacement(l, where, &J);
-      inside = true;
-    }
-    out_pos.col(v) = y;
-    if (!inside) {  // in no cell of a moved level: untouched, bit for bit
+    Eigen::Matrix3d J;
+    Eigen::Vector3d d;
+    if (!displacement(x, d, &J)) {  // in no cell where a level moved: untouched, bit for bit
+      out_pos.col(v) = x;
       out_nrm.col(v) = in_nrm.col(v);
       continue;
     }
+    out_pos.col(v) = x + d;
     const Eigen::Vector3d m = cofactor_times(J, in_nrm.col(v));
     const double len = m.norm();
     out_nrm.col(v) = len > 0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "common/numbers.h"
+#include "multires/octree_drag.h"
 #include "script/lattice_reports.h"
 #include "script/op.h"
 #include "warp/drag.h"
@@ -19,10 +20,12 @@ struct DragPoint {
 struct DragStep final : Step {
   std::string lattice;
   std::vector<DragPoint> points;
+  std::optional<int> level;
 
-  void check(ScriptChecks& checks) const override { checks.lattice_of(lattice, pointer + "/lattice"); }
+  void check(ScriptChecks& checks) const override;
   void run(Scene& scene, StepContext& ctx) const override;
-  void report(Scene& scene, const Lattice& target, const DragResult& result, StepContext& ctx) const;
+  void object_points(const Scene& scene, std::vector<Eigen::Vector3d>& at, std::vector<Eigen::Vector3d>& to) const;
+  void report(Scene& scene, double scale, const DragResult& result, StepContext& ctx) const;
 };
 
 KeyTable<DragPoint> point_keys() {
@@ -45,13 +48,24 @@ KeyTable<DragStep> drag_keys() {
            list_key<S>("/points", point_keys(), "Object points and their targets.",
                        [](auto& s) -> auto& { return s.points; })
                .required()
-               .about("points", "/vertex")}};
+               .about("points", "/vertex"),
+           key<S>("/level", schema_integer(0, 6), nullptr,
+                  "Octree lattices: the level whose points change (default: the finest).",
+                  [](auto& s) -> auto& { return s.level; })}};
 }
 
-void DragStep::run(Scene& scene, StepContext& ctx) const {
-  Lattice& target = scene.lattice(lattice);
+void DragStep::check(ScriptChecks& checks) const {
+  const int levels = checks.octree_levels(lattice);
+  if (levels < 0) {
+    checks.lattice_of(lattice, pointer + "/lattice");
+    if (level) checks.fail(pointer + "/level", "level is for octree lattices");
+  } else if (level && *level > levels) {
+    checks.fail(pointer + "/level", "lattice '" + lattice + "' has levels 0 to " + std::to_string(levels));
+  }
+}
+
+void DragStep::object_points(const Scene& scene, std::vector<Eigen::Vector3d>& at, std::vector<Eigen::Vector3d>& to) const {
   const std::size_t k = scene.stack.index_of(lattice);
-  std::vector<Eigen::Vector3d> at, to;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const DragPoint& point = points[i];
     if (point.vertex) {
@@ -66,7 +80,24 @@ void DragStep::run(Scene& scene, StepContext& ctx) const {
     }
     to.push_back(point.to);
   }
-  const DragResult result = drag(target, at, to);
+}
+
+void DragStep::run(Scene& scene, StepContext& ctx) const {
+  OctreeLattice* octree = scene.octree(lattice);
+  Lattice* tensor = octree ? nullptr : &scene.lattice(lattice);
+  std::vector<Eigen::Vector3d> at, to;
+  object_points(scene, at, to);
+  DragResult result;
+  if (octree) {
+    const int l = level.value_or(octree->num_levels() - 1);
+    OctreeMove move;
+    result = drag(*octree, l, at, to, &move);
+    ctx.stats["level"] = l;
+    ctx.stats["cells_subdivided"] = move.cells_subdivided;
+  } else {
+    result = drag(*tensor, at, to);
+    warn_if_tearing(scene, *tensor, lattice, ctx);
+  }
   const WarpStack::Update update = scene.stack.update(scene.mesh, lattice);
   ctx.stats["lattice"] = lattice;
   ctx.stats["object_points"] = at.size();
@@ -75,14 +106,12 @@ void DragStep::run(Scene& scene, StepContext& ctx) const {
   ctx.stats["residual_rms"] = result.rms_residual;
   ctx.stats["unreachable"] = result.unreachable;
   report_update(scene, update, ctx);
-  report(scene, target, result, ctx);
+  report(scene, (octree ? octree->box() : tensor->box()).extents().norm(), result, ctx);
   ctx.summary += format_count(update.moved) + " vertices moved";
 }
 
 // Warnings about unreachable or conflicting targets, and the summary's start.
-void DragStep::report(Scene& scene, const Lattice& target, const DragResult& result, StepContext& ctx) const {
-  warn_if_tearing(scene, target, lattice, ctx);
-  const double scale = target.box().extents().norm();
+void DragStep::report(Scene& scene, double scale, const DragResult& result, StepContext& ctx) const {
   if (result.unreachable)
     scene.warnings.push_back(ctx.pointer + ": " + std::to_string(result.unreachable) +
                              " object points lie where no movable control point reaches (outside the deformable zone)");

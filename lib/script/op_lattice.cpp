@@ -1,5 +1,6 @@
 // The lattice op: a named lattice on top of the warp stack.
 #include "common/numbers.h"
+#include "multires/octree_lattice.h"
 #include "script/op.h"
 #include "script/selection.h"
 #include "warp/bernstein_lattice.h"
@@ -9,16 +10,29 @@
 namespace ffd {
 namespace {
 
-const std::vector<std::pair<std::string, Lattice::Basis>> kBases = {{"bspline", Lattice::Basis::BSpline},
-                                                                     {"bernstein", Lattice::Basis::Bernstein}};
+enum class Basis { BSpline, Bernstein, Octree };
+const std::vector<std::pair<std::string, Basis>> kBases = {
+    {"bspline", Basis::BSpline}, {"bernstein", Basis::Bernstein}, {"octree", Basis::Octree}};
 
 struct LatticeStep final : Step {
   std::string name;
-  LatticeSpec lattice;
+  Basis basis = Basis::BSpline;
+  int degree = 3;
   BoxSpec box;
+  std::optional<Index3> cells;
+  OctreeOptions octree;
+  std::optional<double> shrink;
+  std::optional<std::string> enclose;
 
+  /// The tensor-product lattice's shape (bspline, bernstein).
+  LatticeSpec spec() const {
+    return {basis == Basis::Bernstein ? Lattice::Basis::Bernstein : Lattice::Basis::BSpline, degree,
+            cells.value_or(Index3{0, 0, 0})};
+  }
   void check(ScriptChecks& checks) const override;
+  void check_octree(ScriptChecks& checks) const;
   void run(Scene& scene, StepContext& ctx) const override;
+  void run_octree(Scene& scene, StepContext& ctx) const;
 };
 
 KeyTable<LatticeStep> lattice_keys() {
@@ -29,23 +43,58 @@ KeyTable<LatticeStep> lattice_keys() {
           .required(),
       enum_key<S>("/basis", kBases, "bspline",
                   "bspline: uniform B-spline with fixed influenced and phantom zones (identity outside the box, "
-                  "C^(degree-1) across it). bernstein: Sederberg & Parry's Bézier volume.",
-                  [](auto& s) -> auto& { return s.lattice.basis; }),
+                  "C^(degree-1) across it). bernstein: Sederberg & Parry's Bézier volume. octree: Ono et al.'s "
+                  "multiresolution lattices fitted to the mesh, deforming by Catmull-Clark subdivision volumes.",
+                  [](auto& s) -> auto& { return s.basis; }),
       key<S>("/degree", schema_integer(1, 3), 3,
              "B-spline degree (bspline only; a Bernstein lattice's degree per axis is its cell count).",
-             [](auto& s) -> auto& { return s.lattice.degree; }),
-      key<S>("/box", schema_ref("box"), write_value(BoxSpec{}), "The lattice's box.",
+             [](auto& s) -> auto& { return s.degree; }),
+      key<S>("/box", schema_ref("box"), write_value(BoxSpec{}),
+             "The lattice's box (an octree lattice's level 0). fit \"obb\" is the box along the principal "
+             "components of the vertices (Gottschalk's OBB, what Ono et al. use), for every basis.",
              [](auto& s) -> auto& { return s.box; })
           .about("box"),
       key<S>("/cells", cells, nullptr,
-             "Cells per axis [l, m, n]: B-spline knot spans across the box, or Bernstein degrees.",
-             [](auto& s) -> auto& { return s.lattice.cells; })
-          .required(),
+             "Cells per axis [l, m, n]: B-spline knot spans across the box, or Bernstein degrees (required for "
+             "bspline and bernstein; an octree lattice takes levels).",
+             [](auto& s) -> auto& { return s.cells; }),
+      key<S>("/levels", schema_integer(0, 6), 3,
+             "octree: octree subdivisions of the box; level l has up to 2^l cells per axis, the cells holding "
+             "no vertex of the region cut.",
+             [](auto& s) -> auto& { return s.octree.levels; }),
+      key<S>("/cc_steps", schema_integer(0, 4), 2,
+             "octree: Catmull-Clark volume subdivisions n that approximate the deformation (error about 4x "
+             "smaller per step).",
+             [](auto& s) -> auto& { return s.octree.cc_steps; }),
+      key<S>("/shrink", schema_number(0), nullptr,
+             "octree: move each level's boundary points toward the region along each axis, stopping this "
+             "offset (mesh units) short of it (at most 0.45 of a cell).",
+             [](auto& s) -> auto& { return s.shrink; }),
+      key<S>("/enclose", schema_text(), nullptr,
+             "octree: a lattice created earlier; the box is fitted around the mesh and that lattice's control "
+             "points, which this lattice then deforms too (global editing after local).",
+             [](auto& s) -> auto& { return s.enclose; }),
   }};
 }
 
+void LatticeStep::check_octree(ScriptChecks& checks) const {
+  if (cells) checks.fail(pointer + "/cells", "an octree lattice takes levels, not cells");
+  if (enclose) {
+    if (!checks.lattices.count(*enclose) && checks.octree_levels(*enclose) < 0)
+      checks.fail(pointer + "/enclose", "no lattice named '" + *enclose + "' is created before this step");
+    if (box.kind != BoxSpec::Kind::Fit)
+      checks.fail(pointer + "/box", "enclose fits the box around the mesh and the lattice; give {\"fit\": ...}");
+  }
+  checks.octrees[name] = octree.levels;
+}
+
 void LatticeStep::check(ScriptChecks& checks) const {
-  if (checks.lattices.count(name)) checks.fail(pointer + "/name", "a lattice named '" + name + "' already exists");
+  checks.check_new_lattice(name, pointer + "/name");
+  if (basis == Basis::Octree) return check_octree(checks);
+  if (shrink) checks.fail(pointer + "/shrink", "shrink is for octree lattices");
+  if (enclose) checks.fail(pointer + "/enclose", "enclose is for octree lattices");
+  if (!cells) checks.fail(pointer + "/cells", "a " + name_of(kBases, basis) + " lattice needs cells [l, m, n]");
+  const LatticeSpec lattice = spec();
   const bool bspline = lattice.basis == Lattice::Basis::BSpline;
   double points = 1;
   for (int a = 0; a < 3; ++a) {
@@ -82,7 +131,90 @@ Parallelepiped make_box(const Scene& scene, const BoxSpec& box) {
 
 nlohmann::json vec_json(const Eigen::Vector3d& v) { return write_value(v); }
 
+nlohmann::json box_json(const Parallelepiped& box) {
+  return {{"origin", vec_json(box.origin())},
+          {"axes", {vec_json(box.axes().col(0)), vec_json(box.axes().col(1)), vec_json(box.axes().col(2))}}};
+}
+
+/// The points an octree lattice is fitted and cut around: the region's vertices, and with
+/// `enclose` the enclosed lattice's control points (every level's) where the mesh sees them.
+Eigen::Matrix3Xd octree_region(Scene& scene, const BoxSpec& box, const std::optional<std::string>& enclose) {
+  const auto positions = scene.mesh.positions();
+  std::vector<std::uint32_t> ids;
+  if (box.select) ids = select_vertices(*box.select, positions);
+  std::vector<Eigen::Vector3d> points;
+  if (ids.empty())
+    for (Eigen::Index v = 0; v < positions.cols(); ++v) points.push_back(positions.col(v));
+  for (std::uint32_t v : ids) points.push_back(positions.col(v));
+  if (enclose) {
+    const std::size_t k = scene.stack.index_of(*enclose);
+    if (const OctreeLattice* octree = scene.octree(*enclose)) {
+      for (int l = 0; l < octree->num_levels(); ++l) {
+        const Eigen::Matrix3Xd level = octree->points(l);
+        for (Eigen::Index p = 0; p < level.cols(); ++p) points.push_back(scene.stack.carry_from(k, level.col(p)));
+      }
+    } else {
+      const Lattice& lattice = scene.lattice(*enclose);
+      for (std::size_t f = 0; f < lattice.num_points(); ++f)
+        points.push_back(scene.stack.carry_from(k, lattice.point(lattice.index(f))));
+    }
+  }
+  Eigen::Matrix3Xd region(3, static_cast<Eigen::Index>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) region.col(static_cast<Eigen::Index>(i)) = points[i];
+  return region;
+}
+
+Parallelepiped fit_octree_box(const Scene& scene, const BoxSpec& box, const Eigen::Matrix3Xd& region) {
+  if (box.kind != BoxSpec::Kind::Fit) return make_box(scene, box);
+  switch (box.fit) {
+    case BoxSpec::Fit::Obb:
+      return fit_principal_box(region, {}, box.padding);
+    case BoxSpec::Fit::MinVolume:
+      return fit_min_volume_box(region, {}, box.padding);
+    case BoxSpec::Fit::Aabb:
+      break;
+  }
+  return fit_aabb(region, {}, box.padding);
+}
+
+void LatticeStep::run_octree(Scene& scene, StepContext& ctx) const {
+  const Eigen::Matrix3Xd region = concerning("box", [&] { return octree_region(scene, box, enclose); });
+  const Parallelepiped placed = concerning("box", [&] { return fit_octree_box(scene, box, region); });
+  OctreeOptions options = octree;
+  options.shrink = shrink.value_or(-1.0);
+  auto made = std::make_unique<OctreeLattice>(placed, region, options);
+  OctreeLattice* raw = made.get();
+  scene.stack.push(scene.mesh, name, std::move(made));
+  scene.octrees[name] = raw;
+
+  nlohmann::json levels = nlohmann::json::array();
+  for (int l = 0; l < raw->num_levels(); ++l)
+    levels.push_back({{"level", l},
+                      {"points", raw->complex(l).num_points()},
+                      {"cells", raw->complex(l).num_cells()},
+                      {"cut_cells", raw->cut_cells(l)}});
+  std::size_t inside = 0;
+  const auto positions = scene.mesh.positions();
+  for (Eigen::Index v = 0; v < positions.cols(); ++v) inside += Lattice::inside(placed.to_local(positions.col(v)));
+  ctx.stats["name"] = name;
+  ctx.stats["basis"] = "octree";
+  ctx.stats["levels"] = levels;
+  ctx.stats["cc_steps"] = octree.cc_steps;
+  if (shrink) ctx.stats["shrink"] = *shrink;
+  if (enclose) ctx.stats["enclose"] = *enclose;
+  ctx.stats["box"] = box_json(placed);
+  ctx.stats["vertices_inside"] = inside;
+  ctx.stats["bytes"] = raw->bytes();
+  const GridComplex& finest = raw->complex(raw->num_levels() - 1);
+  ctx.summary = "lattice '" + name + "': octree, " + std::to_string(octree.levels) + " levels (finest: " +
+                format_count(finest.num_cells()) + " cells, " + format_count(finest.num_points()) + " points), " +
+                "cc_steps " + std::to_string(octree.cc_steps) + ", " + format_count(inside) + " vertices inside";
+  if (inside == 0) scene.warnings.push_back(ctx.pointer + ": lattice '" + name + "' contains no mesh vertex");
+}
+
 void LatticeStep::run(Scene& scene, StepContext& ctx) const {
+  if (basis == Basis::Octree) return run_octree(scene, ctx);
+  const LatticeSpec lattice = spec();
   const Parallelepiped placed = concerning("box", [&] { return make_box(scene, box); });
   std::unique_ptr<Lattice> made = make_lattice(lattice, placed);
   Lattice* raw = made.get();
@@ -94,20 +226,18 @@ void LatticeStep::run(Scene& scene, StepContext& ctx) const {
   const auto positions = scene.mesh.positions();
   for (Eigen::Index v = 0; v < positions.cols(); ++v) inside += Lattice::inside(placed.to_local(positions.col(v)));
   const Index3 degree = raw->degree();
-  const std::string basis = name_of(kBases, lattice.basis);
+  const std::string basis_name = name_of(kBases, basis);
   const Index3& cells = lattice.cells;
   ctx.stats["name"] = name;
-  ctx.stats["basis"] = basis;
+  ctx.stats["basis"] = basis_name;
   ctx.stats["degree"] = write_value(degree);
   ctx.stats["cells"] = write_value(cells);
   ctx.stats["control_points"] = raw->num_points();
   ctx.stats["movable_points"] = movable;
   ctx.stats["vertices_inside"] = inside;
-  ctx.stats["box"] = {{"origin", vec_json(placed.origin())},
-                      {"axes", {vec_json(placed.axes().col(0)), vec_json(placed.axes().col(1)),
-                                vec_json(placed.axes().col(2))}}};
+  ctx.stats["box"] = box_json(placed);
   ctx.stats["boundary_continuity"] = raw->boundary_continuity();
-  ctx.summary = "lattice '" + name + "': " + basis +
+  ctx.summary = "lattice '" + name + "': " + basis_name +
                 (lattice.basis == Lattice::Basis::BSpline ? " degree " + std::to_string(degree[0]) : std::string()) +
                 ", " + std::to_string(cells[0]) + "x" + std::to_string(cells[1]) + "x" + std::to_string(cells[2]) +
                 " cells, " + format_count(raw->num_points()) + " points (" + format_count(movable) + " movable), " +

@@ -1,6 +1,7 @@
 // The move op: lattice control points moved by index (`by` / `to`), or a selection of
 // movable points moved by a 9-dof transform about its centroid.
 #include "common/numbers.h"
+#include "multires/octree_lattice.h"
 #include "script/lattice_reports.h"
 #include "script/op.h"
 #include "script/selection.h"
@@ -18,10 +19,13 @@ struct MoveStep final : Step {
   std::vector<MovePoint> points;
   std::optional<Selection> select;
   std::optional<Transform> transform;
+  std::optional<int> level;
 
   void check(ScriptChecks& checks) const override;
+  void check_octree(ScriptChecks& checks, int levels) const;
   void run(Scene& scene, StepContext& ctx) const override;
   std::size_t move_selection(Lattice& target) const;
+  void run_octree(Scene& scene, OctreeLattice& target, StepContext& ctx) const;
 };
 
 KeyTable<MovePoint> point_keys() {
@@ -42,17 +46,37 @@ KeyTable<MoveStep> move_keys() {
                   [](auto& s) -> auto& { return s.lattice; })
                .required()
                .about("lattice"),
-           list_key<S>("/points", point_keys(), "Points moved one by one.", [](auto& s) -> auto& { return s.points; }),
+           list_key<S>("/points", point_keys(), "Points moved one by one.", [](auto& s) -> auto& { return s.points; })
+               .about("points", "/index"),
            key<S>("/select", schema_ref("selection"), nullptr,
                   "Movable points picked by index or by their current positions.",
                   [](auto& s) -> auto& { return s.select; }),
            key<S>("/transform", schema_ref("transform"), nullptr,
                   "The map applied to the selected points; center: their centroid.",
-                  [](auto& s) -> auto& { return s.transform; })},
+                  [](auto& s) -> auto& { return s.transform; }),
+           key<S>("/level", schema_integer(0, 6), nullptr,
+                  "Octree lattices: the level whose points move (default: the finest); index [i, j, k] is a grid "
+                  "node of that level, 0 <= i, j, k <= 2^level. Moving a finer level after a coarser one edits "
+                  "hierarchically: the finer level follows the coarser one's deformation.",
+                  [](auto& s) -> auto& { return s.level; })},
           {{"points"}, {"select", "transform"}}};
 }
 
+void MoveStep::check_octree(ScriptChecks& checks, int levels) const {
+  if (level && *level > levels)
+    checks.fail(pointer + "/level", "lattice '" + lattice + "' has levels 0 to " + std::to_string(levels));
+  const int top = 1 << level.value_or(levels);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      if (points[i].index[a] < 0 || points[i].index[a] > top)
+        checks.fail(pointer + "/points/" + std::to_string(i) + "/index",
+                    "point " + write_value(points[i].index).dump() + " is not movable (movable: " +
+                        octree_points_text(level.value_or(levels)) + ")");
+}
+
 void MoveStep::check(ScriptChecks& checks) const {
+  if (const int levels = checks.octree_levels(lattice); levels >= 0) return check_octree(checks, levels);
+  if (level) checks.fail(pointer + "/level", "level is for octree lattices");
   const LatticeSpec& shape = checks.lattice_of(lattice, pointer + "/lattice");
   for (std::size_t i = 0; i < points.size(); ++i)
     for (int a = 0; a < 3; ++a) {
@@ -81,7 +105,43 @@ std::size_t MoveStep::move_selection(Lattice& target) const {
   return picked.size();
 }
 
+void MoveStep::run_octree(Scene& scene, OctreeLattice& target, StepContext& ctx) const {
+  const int l = level.value_or(target.num_levels() - 1);
+  const Eigen::Matrix3Xd shown = target.points(l);
+  std::vector<std::int32_t> ids;
+  std::vector<Eigen::Vector3d> targets;
+  if (select) {
+    for (std::size_t p : select_octree_points(*select, target, l)) ids.push_back(static_cast<std::int32_t>(p));
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (std::int32_t id : ids) centroid += shown.col(id);
+    centroid /= static_cast<double>(ids.size());
+    for (std::int32_t id : ids) targets.push_back(transform->apply(shown.col(id), centroid));
+  } else {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const std::int32_t id = target.point_index(l, points[i].index);
+      if (id < 0)
+        throw InputError("point " + write_value(points[i].index).dump() + " is no corner of a cell of level " +
+                             std::to_string(l) + " (its cells were cut: they hold no vertex of the region)",
+                         {"points", i});
+      ids.push_back(id);
+      targets.push_back(points[i].by ? Eigen::Vector3d(shown.col(id) + *points[i].by) : *points[i].to);
+    }
+  }
+  const OctreeMove moved = target.move_points(l, ids, targets);
+  const WarpStack::Update update = scene.stack.update(scene.mesh, lattice);
+  ctx.stats["lattice"] = lattice;
+  ctx.stats["level"] = l;
+  ctx.stats["points_moved"] = moved.points_moved;
+  ctx.stats["cells_subdivided"] = moved.cells_subdivided;
+  ctx.stats["cells_relocated"] = moved.cells_marked;
+  report_update(scene, update, ctx);
+  ctx.summary = "move '" + lattice + "' level " + std::to_string(l) + ": " + format_count(moved.points_moved) +
+                " points, " + format_count(moved.cells_subdivided) + " cells subdivided, " +
+                format_count(update.moved) + " vertices moved";
+}
+
 void MoveStep::run(Scene& scene, StepContext& ctx) const {
+  if (OctreeLattice* octree = scene.octree(lattice)) return run_octree(scene, *octree, ctx);
   Lattice& target = scene.lattice(lattice);
   std::size_t moved_points = 0;
   if (select) {

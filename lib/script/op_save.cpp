@@ -3,7 +3,10 @@
 #include <filesystem>
 #include <optional>
 
+#include "common/numbers.h"
+#include "multires/octree_lattice.h"
 #include "remesh/adaptive_remesher.h"
+#include "render/control_net.h"
 #include "script/op.h"
 #include "script/output_files.h"
 
@@ -16,13 +19,17 @@ struct SaveStep final : Step {
   std::string path;
   bool colors_by_level = false;
   std::optional<std::string> preview;
+  std::optional<std::string> lattice;
+  std::optional<int> level;
 
   std::vector<OutputFile> outputs() const override {
     std::vector<OutputFile> out = {{"/path", path}};
     if (preview) out.push_back({"/preview", *preview, true});
     return out;
   }
+  void check(ScriptChecks& checks) const override;
   void run(Scene& scene, StepContext& ctx) const override;
+  void save_net(Scene& scene, StepContext& ctx) const;
 };
 
 KeyTable<SaveStep> save_keys() {
@@ -37,10 +44,71 @@ KeyTable<SaveStep> save_keys() {
            key<S>("/preview", schema_text(), nullptr,
                   "Also renders the mesh with every lattice's control net over it to this PNG (1280 x 960, iso "
                   "view); relative to the output folder.",
-                  [](auto& s) -> auto& { return s.preview; })}};
+                  [](auto& s) -> auto& { return s.preview; }),
+           key<S>("/lattice", schema_text(), nullptr,
+                  "Write this lattice's control net instead of the mesh (OBJ: its points as v, its edges as l), "
+                  "where the lattices created after it carry it.",
+                  [](auto& s) -> auto& { return s.lattice; }),
+           key<S>("/level", schema_integer(0, 6), nullptr, "With an octree lattice: the level (default: the finest).",
+                  [](auto& s) -> auto& { return s.level; })}};
+}
+
+void SaveStep::check(ScriptChecks& checks) const {
+  if (!lattice) {
+    if (level) checks.fail(pointer + "/level", "level goes with lattice");
+    return;
+  }
+  const int levels = checks.octree_levels(*lattice);
+  if (levels < 0) checks.lattice_of(*lattice, pointer + "/lattice");
+  if (levels < 0 && level) checks.fail(pointer + "/level", "level is for octree lattices");
+  if (level && *level > levels)
+    checks.fail(pointer + "/level", "lattice '" + *lattice + "' has levels 0 to " + std::to_string(levels));
+  if (mesh_format(path) != MeshFormat::Obj)
+    checks.fail(pointer + "/path", "a control net is written as OBJ (points and l lines): give the extension .obj");
+  if (colors_by_level) checks.fail(pointer + "/colors", "colors are for meshes, not control nets");
+}
+
+/// OBJ text of a net: "v x y z" per point, "l a b" per edge (1-based).
+void write_net_obj(std::ostream& os, const Overlay& net, const std::string& title) {
+  os << "# " << title << ": " << net.points.size() << " points, " << net.edges.size() << " edges\n";
+  char line[128];
+  for (const Eigen::Vector3d& p : net.points) {
+    char* end = line;
+    *end++ = 'v';
+    for (int a = 0; a < 3; ++a) *end++ = ' ', end = format_number_to(end, p[a]);
+    *end++ = '\n';
+    os.write(line, end - line);
+  }
+  for (const auto& e : net.edges) os << "l " << e[0] + 1 << ' ' << e[1] + 1 << '\n';
+}
+
+void SaveStep::save_net(Scene& scene, StepContext& ctx) const {
+  Overlay net;
+  std::string title = "control net of lattice '" + *lattice + "'";
+  if (OctreeLattice* octree = scene.octree(*lattice)) {
+    const int l = level.value_or(octree->num_levels() - 1);
+    net = control_net(*octree, l);
+    title += ", level " + std::to_string(l);
+    ctx.stats["level"] = l;
+  } else {
+    net = control_net(scene.lattice(*lattice));
+  }
+  const std::size_t k = scene.stack.index_of(*lattice);
+  for (Eigen::Vector3d& p : net.points) p = scene.stack.carry_from(k, p);
+  StagedFile staged{std::filesystem::path(scene.output_folder) / path};
+  const std::size_t bytes = staged.write([&](std::ostream& os) { write_net_obj(os, net, title); });
+  scene.staged.push_back(std::move(staged));
+  ctx.stats["path"] = path;
+  ctx.stats["lattice"] = *lattice;
+  ctx.stats["points"] = net.points.size();
+  ctx.stats["edges"] = net.edges.size();
+  ctx.stats["bytes"] = bytes;
+  ctx.summary = "save " + path + ": " + title + ", " + format_count(net.points.size()) + " points, " +
+                format_count(net.edges.size()) + " edges";
 }
 
 void SaveStep::run(Scene& scene, StepContext& ctx) const {
+  if (lattice) return save_net(scene, ctx);
   WriteOptions options = scene.write_options();
   if (colors_by_level) {
     int top = 1;

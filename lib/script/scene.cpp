@@ -13,13 +13,27 @@ WriteOptions Scene::write_options() const {
   return options;
 }
 
-Lattice& Scene::lattice(const std::string& name) {
-  auto b = baked.find(name);
-  if (b != baked.end())
+namespace {
+
+void check_not_baked(const Scene& scene, const std::string& name) {
+  auto b = scene.baked.find(name);
+  if (b != scene.baked.end())
     throw InputError("lattice '" + name + "' was frozen into the mesh by the surface edit at " + b->second +
                          "; create a new lattice to deform further",
                      {"lattice"});
+}
+
+}  // namespace
+
+Lattice& Scene::lattice(const std::string& name) {
+  check_not_baked(*this, name);
   return *lattices.at(name);
+}
+
+OctreeLattice* Scene::octree(const std::string& name) {
+  check_not_baked(*this, name);
+  auto it = octrees.find(name);
+  return it == octrees.end() ? nullptr : it->second;
 }
 
 }  // namespace ffd

@@ -17,6 +17,7 @@
 
 namespace ffd {
 
+class OctreeLattice;
 struct SurfaceEditor;
 /// Deletes a SurfaceEditor (surface_edits.cpp), so that this header needs only its name.
 struct SurfaceEditorDelete {
@@ -28,6 +29,8 @@ struct Scene {
   WarpStack stack;
   /// Lattices by name; owned by `stack`.
   std::map<std::string, Lattice*> lattices;
+  /// Octree (multiresolution) lattices by name; owned by `stack`.
+  std::map<std::string, OctreeLattice*> octrees;
   /// Lattices frozen into the rest positions by a surface edit: name -> step pointer.
   std::map<std::string, std::string> baked;
   /// Boundary-constraint editors by name (bcm steps), driven by transform steps.
@@ -42,6 +45,9 @@ struct Scene {
   WriteOptions write_options() const;
   /// The named lattice. \throw InputError about "lattice" if it was baked by a surface edit.
   Lattice& lattice(const std::string& name);
+  /// The named octree lattice, or null when `name` is a tensor-product lattice.
+  /// \throw InputError about "lattice" if it was baked by a surface edit.
+  OctreeLattice* octree(const std::string& name);
 };
 
 /// What one step reports: its JSON stats object (op-specific counts) and a summary line;

@@ -31,8 +31,20 @@ void ScriptChecks::check_output_path(const OutputFile& file, const std::string& 
 
 const LatticeSpec& ScriptChecks::lattice_of(const std::string& name, const std::string& pointer) const {
   auto it = lattices.find(name);
-  if (it == lattices.end()) fail(pointer, "no lattice named '" + name + "' is created before this step");
+  if (it == lattices.end()) {
+    if (octrees.count(name)) fail(pointer, "lattice '" + name + "' is an octree lattice; this step needs a B-spline or Bernstein lattice");
+    fail(pointer, "no lattice named '" + name + "' is created before this step");
+  }
   return it->second;
+}
+
+int ScriptChecks::octree_levels(const std::string& name) const {
+  auto it = octrees.find(name);
+  return it == octrees.end() ? -1 : it->second;
+}
+
+void ScriptChecks::check_new_lattice(const std::string& name, const std::string& pointer) const {
+  if (lattices.count(name) || octrees.count(name)) fail(pointer, "a lattice named '" + name + "' already exists");
 }
 
 }  // namespace ffd

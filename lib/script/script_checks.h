@@ -26,7 +26,15 @@ public:
   /// The lattice called `name`; fails at `pointer` if no step created it earlier.
   const LatticeSpec& lattice_of(const std::string& name, const std::string& pointer) const;
 
+  /// The levels of the octree lattice called `name`, or -1 when it is not one (a
+  /// tensor-product lattice, or none: then lattice_of says so).
+  int octree_levels(const std::string& name) const;
+  /// Fails at `pointer` when a lattice called `name` exists already.
+  void check_new_lattice(const std::string& name, const std::string& pointer) const;
+
   std::map<std::string, LatticeSpec> lattices;
+  /// Octree lattices: name -> levels.
+  std::map<std::string, int> octrees;
   /// Handle names of each bcm editor, in order (bcm steps record them, transform steps check).
   std::map<std::string, std::vector<std::string>> editor_handles;
 

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "common/errors.h"
@@ -106,36 +108,73 @@ std::vector<std::uint32_t> select_vertices(const Selection& selection,
   return {picked.begin(), picked.end()};
 }
 
-std::vector<std::size_t> select_lattice_points(const Selection& selection, const Lattice& lattice) {
+namespace {
+
+/// Control points a selection can pick: their positions, the flat index of a grid index
+/// (none when out of range or not movable), which are movable, and a text of which are.
+struct PickablePoints {
+  Eigen::Matrix3Xd points;
+  std::function<std::optional<std::size_t>(const Index3&)> flat;
+  std::function<bool(std::size_t)> movable;
+  std::string movable_text;
+};
+
+std::vector<std::size_t> select_points(const Selection& selection, const PickablePoints& pick) {
   std::vector<std::size_t> picked;
-  Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(lattice.num_points()));
-  std::vector<bool> movable(lattice.num_points());
-  for (std::size_t f = 0; f < lattice.num_points(); ++f) {
-    const Index3 ijk = lattice.index(f);
-    points.col(static_cast<Eigen::Index>(f)) = lattice.point(ijk);
-    movable[f] = lattice.movable(ijk);
-  }
   for (const SelectionPart& part : selection.parts) {
     if (part.kind == SelectionPart::Kind::Indices) {
       for (std::size_t i = 0; i < part.indices.size(); ++i) {
         const SelectionPart::Entry& e = part.indices[i];
         if (!e.lattice) throw InputError(At{index_place(part, i)}, "expected a lattice index [i, j, k]");
-        if (!lattice.in_range(e.ijk) || !lattice.movable(e.ijk))
-          throw InputError(At{index_place(part, i)},
-                           "point " + e.text + " is not movable (movable: " + lattice.movable_range() + ")");
-        picked.push_back(lattice.flat(e.ijk));
+        const std::optional<std::size_t> flat = pick.flat(e.ijk);
+        if (!flat)
+          throw InputError(At{index_place(part, i)}, "point " + e.text + " is not movable (movable: " + pick.movable_text + ")");
+        picked.push_back(*flat);
       }
     } else if (part.kind == SelectionPart::Kind::File) {
       throw InputError(At{part.place}, "a selection file lists mesh vertices, not lattice points");
     } else {
-      geometric_pick(part, points, [&](Eigen::Index i) { return movable[static_cast<std::size_t>(i)]; }, picked);
+      geometric_pick(part, pick.points, [&](Eigen::Index i) { return pick.movable(static_cast<std::size_t>(i)); }, picked);
     }
   }
   sort_unique(picked);
   if (picked.empty())
-    throw InputError(At{selection.place},
-                     "the selection picks no movable lattice point (movable: " + lattice.movable_range() + ")");
+    throw InputError(At{selection.place}, "the selection picks no movable lattice point (movable: " + pick.movable_text + ")");
   return picked;
+}
+
+}  // namespace
+
+std::vector<std::size_t> select_lattice_points(const Selection& selection, const Lattice& lattice) {
+  PickablePoints pick;
+  pick.points.resize(3, static_cast<Eigen::Index>(lattice.num_points()));
+  for (std::size_t f = 0; f < lattice.num_points(); ++f)
+    pick.points.col(static_cast<Eigen::Index>(f)) = lattice.point(lattice.index(f));
+  pick.flat = [&](const Index3& ijk) -> std::optional<std::size_t> {
+    if (!lattice.in_range(ijk) || !lattice.movable(ijk)) return std::nullopt;
+    return lattice.flat(ijk);
+  };
+  pick.movable = [&](std::size_t f) { return lattice.movable(lattice.index(f)); };
+  pick.movable_text = lattice.movable_range();
+  return select_points(selection, pick);
+}
+
+std::string octree_points_text(int level) {
+  const std::string top = std::to_string(1 << level);
+  return "the corners of level " + std::to_string(level) + "'s cells, grid nodes [i, j, k] in [0, " + top + "]";
+}
+
+std::vector<std::size_t> select_octree_points(const Selection& selection, const OctreeLattice& lattice, int level) {
+  PickablePoints pick;
+  pick.points = lattice.points(level);
+  pick.flat = [&](const Index3& ijk) -> std::optional<std::size_t> {
+    const std::int32_t id = lattice.point_index(level, ijk);
+    if (id < 0) return std::nullopt;
+    return static_cast<std::size_t>(id);
+  };
+  pick.movable = [](std::size_t) { return true; };
+  pick.movable_text = octree_points_text(level);
+  return select_points(selection, pick);
 }
 
 }  // namespace ffd

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "script/script_values.h"
+#include "multires/octree_lattice.h"
 #include "warp/lattice.h"
 
 namespace ffd {
@@ -24,6 +25,13 @@ std::vector<std::uint32_t> select_vertices(const Selection& selection,
 /// sorted. \throw InputError for an index out of range or not movable (naming the movable
 /// range), a vertex index or file given for lattice points, or an empty pick.
 std::vector<std::size_t> select_lattice_points(const Selection& selection, const Lattice& lattice);
+
+/// The points of level `level` of an octree lattice `selection` picks (by shown
+/// position, or by grid node [i, j, k] at that level), as point indices, sorted. Every
+/// point of a level is movable. \throw InputError as select_lattice_points.
+std::vector<std::size_t> select_octree_points(const Selection& selection, const OctreeLattice& lattice, int level);
+/// "the corners of level 2's cells, grid nodes [i, j, k] in [0, 4]", for messages.
+std::string octree_points_text(int level);
 
 /// Reads a selection file: one non-negative vertex index per line, '#' comments.
 /// \throw InputError "file:line: ..." on anything else.

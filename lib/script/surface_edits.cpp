@@ -65,6 +65,7 @@ nlohmann::ordered_json bake_stack(Scene& scene, const std::string& pointer) {
   for (const std::string& name : scene.stack.bake(scene.mesh)) {
     scene.baked[name] = pointer;
     scene.lattices.erase(name);
+    scene.octrees.erase(name);
     names.push_back(name);
   }
   return names;

@@ -15,6 +15,15 @@ struct DragResult {
   std::size_t unreachable = 0;     // object points no movable control point influences
 };
 
+/// Weights of control points (flat index, weight) at one object point.
+using WeightRow = std::vector<std::pair<std::size_t, double>>;
+
+/// The least-norm change of the control points that moves object point i by row i of E:
+/// ΔP = B⁺ E, B holding the rows' weights (pseudo-inverse by a complete orthogonal
+/// decomposition). One entry per control point some row weights, in flat order.
+std::vector<std::pair<std::size_t, Eigen::Vector3d>> least_norm_change(const std::vector<WeightRow>& rows,
+                                                                       const Eigen::MatrixXd& E);
+
 /// Changes the movable control points of `lattice` by ΔP = B⁺ (to − F(at)), where B holds
 /// the basis weights of the movable points at each object point (pseudo-inverse by a
 /// complete orthogonal decomposition: the minimum-norm exact solution when the targets

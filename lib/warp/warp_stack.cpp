@@ -78,6 +78,12 @@ Eigen::Vector3d WarpStack::evaluate(const Eigen::Vector3d& rest, Eigen::Matrix3d
   return x;
 }
 
+Eigen::Vector3d WarpStack::carry_from(std::size_t k, const Eigen::Vector3d& x) const {
+  Eigen::Vector3d y = x;
+  for (std::size_t j = k + 1; j < warps_.size(); ++j) y = warps_[j]->apply(y, nullptr);
+  return y;
+}
+
 void WarpStack::evaluate_point(Eigen::Vector3d& x, Eigen::Vector3d& n, const InputSink& input) const {
   for (std::size_t k = 0; k < warps_.size(); ++k) {
     if (k > 0 && input) input(k, x, n);

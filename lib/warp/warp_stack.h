@@ -43,6 +43,9 @@ public:
   /// Update for the warp called `name`.
   Update update(Mesh& mesh, const std::string& name);
 
+  /// A point of warp k's output space carried through the warps above k (what a
+  /// lattice's control point looks like after the lattices created after it).
+  Eigen::Vector3d carry_from(std::size_t k, const Eigen::Vector3d& x) const;
   /// A rest-space point through every warp; the total Jacobian when asked.
   Eigen::Vector3d evaluate(const Eigen::Vector3d& rest, Eigen::Matrix3d* jacobian) const;
   /// Carries a rest position `x` and rest normal `n` through every warp, in place (the
