@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <random>
 
+#include "multires/cell_complex.h"
 #include "multires/cell_coordinates.h"
 #include "multires/octree_lattice.h"
 #include "multires/volume_subdivision.h"
@@ -299,6 +300,139 @@ TEST(OctreeLattice, PointWeightsPredictTheDeformation) {
   for (const auto& [p, wp] : w) predicted += wp * d * (p % 3);
   lattice.move_points(2, ids, targets);
   EXPECT_LT((lattice.apply(x, nullptr) - predicted).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace ffd
+
+namespace ffd {
+namespace {
+
+/// The positions of C^k as a sorted list, rounded to 1e-9, to compare point sets.
+std::vector<std::array<long long, 3>> rounded(const Eigen::Matrix3Xd& x) {
+  std::vector<std::array<long long, 3>> out;
+  for (Eigen::Index p = 0; p < x.cols(); ++p)
+    out.push_back({std::llround(x(0, p) * 1e9), std::llround(x(1, p) * 1e9), std::llround(x(2, p) * 1e9)});
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(CellComplex, TheGeneralRulesAgreeWithTheGridRulesOnACutLattice) {
+  // The bunny's level-3 lattice (cut cells, concave and non-manifold boundary), as a
+  // general complex with nothing subdivided: two Catmull-Clark steps by the general code
+  // give the same points as the grid code.
+  BunnyLattice b;
+  const OctreeLattice lattice(b.box, b.x, options(3, 2));
+  std::vector<GridIndex> nodes;
+  CellComplex k = locally_subdivided(lattice.complex(3), std::vector<std::uint8_t>(lattice.complex(3).num_cells(), 0), nodes);
+  EXPECT_EQ(k.num_cells(), lattice.complex(3).num_cells());
+  EXPECT_EQ(lattice_defect(k), "");
+  Eigen::Matrix3Xd x = lattice.rest_points(3);
+  for (int step = 1; step <= 2; ++step) {
+    Eigen::SparseMatrix<double, Eigen::RowMajor> S;
+    k = catmull_clark_step(k, S);
+    x = (S * x.transpose()).transpose();
+    EXPECT_EQ(lattice_defect(k), "") << "step " << step;
+    EXPECT_EQ(k.num_cells(), lattice.subdivided(3, step).num_cells());
+  }
+  EXPECT_EQ(rounded(x), rounded(lattice.subdivided_rest(3, 2)));
+}
+
+TEST(CellComplex, LocalSubdivisionKeepsTheLatticeValid) {
+  const OctreeLattice lattice(unit_box(), filling_points(4), options(2, 2));
+  const GridComplex& g = lattice.complex(2);
+  std::vector<std::uint8_t> flags(g.num_cells(), 0);
+  flags[static_cast<std::size_t>(g.cell(1, 1, 1))] = flags[static_cast<std::size_t>(g.cell(2, 1, 1))] = 1;
+  flags[static_cast<std::size_t>(g.cell(0, 3, 3))] = 1;  // a corner cell too
+  std::vector<GridIndex> nodes;
+  CellComplex k = locally_subdivided(g, flags, nodes);
+  EXPECT_EQ(k.num_cells(), g.num_cells() - 3 + 24);
+  for (int step = 0; step <= 2; ++step) {
+    EXPECT_EQ(lattice_defect(k), "") << "step " << step;
+    // A solid ball: V - E + F - C = 1.
+    const long long euler = k.num_points - static_cast<long long>(k.edges.size()) + static_cast<long long>(k.num_faces()) -
+                            static_cast<long long>(k.num_cells());
+    EXPECT_EQ(euler, 1) << "step " << step;
+    Eigen::SparseMatrix<double, Eigen::RowMajor> S;
+    if (step < 2) k = catmull_clark_step(k, S);
+  }
+  // Extraordinary points: cells that are not hexahedra (other than 6 faces) appear.
+  std::size_t other = 0;
+  for (std::size_t c = 0; c < k.num_cells(); ++c) other += k.cell_offsets[c + 1] - k.cell_offsets[c] != 6;
+  EXPECT_GT(other, 0u);
+}
+
+TEST(CellComplex, ALocallySubdividedLevelIsTheIdentityUntilMovedAndContinuousAfter) {
+  const OctreeLattice base(unit_box(), filling_points(8), options(2, 2));
+  OctreeLattice lattice(unit_box(), filling_points(8), options(2, 2));
+  const GridComplex& g = lattice.complex(2);
+  const int l = lattice.subdivide(2, {g.cell(1, 1, 1), g.cell(2, 1, 1)});
+  EXPECT_EQ(l, 3);
+  EXPECT_EQ(lattice.resolution(l), 8);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  // Taking the new level up moves nothing, bit for bit.
+  move_one(lattice, l, {4, 4, 4}, Eigen::Vector3d::Zero());
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::Vector3d x(u01(rng), u01(rng), u01(rng));
+    EXPECT_TRUE((lattice.apply(x, nullptr).array() == x.array()).all());
+  }
+  // Move a point on the face between the subdivided cells and their neighbours.
+  move_one(lattice, l, {4, 3, 3}, Eigen::Vector3d(0.03, 0.02, -0.01));
+  move_one(lattice, l, {3, 3, 4}, Eigen::Vector3d(-0.01, 0.02, 0.02));
+  double jump = 0, moved = 0;
+  for (int i = 0; i < 400; ++i) {  // across the planes x = 0.25 and x = 0.75, y = 0.25, z = 0.5
+    const int axis = i % 3;
+    Eigen::Vector3d x(0.2 + 0.6 * u01(rng), 0.15 + 0.4 * u01(rng), 0.2 + 0.6 * u01(rng));
+    x[axis] = axis == 0 ? (i % 2 ? 0.25 : 0.75) : axis == 1 ? 0.25 : 0.5;
+    const Eigen::Vector3d e = Eigen::Vector3d::Unit(axis) * 1e-10;
+    jump = std::max(jump, (lattice.apply(x + e, nullptr) - lattice.apply(x - e, nullptr)).norm());
+    moved = std::max(moved, (lattice.apply(x, nullptr) - x).norm());
+  }
+  EXPECT_GT(moved, 1e-3);
+  EXPECT_LT(jump, 1e-8);
+  // Jacobian against finite differences.
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::Vector3d x(0.2 + 0.4 * u01(rng), 0.2 + 0.4 * u01(rng), 0.3 + 0.4 * u01(rng));
+    Eigen::Matrix3d J, fd;
+    lattice.apply(x, &J);
+    for (int a = 0; a < 3; ++a) {
+      const Eigen::Vector3d h = Eigen::Vector3d::Unit(a) * 1e-7;
+      fd.col(a) = (lattice.apply(x + h, nullptr) - lattice.apply(x - h, nullptr)) / 2e-7;
+    }
+    EXPECT_LT((J - fd).norm(), 1e-5);
+  }
+  // The grid levels still deform as they did: level 2 of both lattices agree.
+  EXPECT_TRUE((lattice.points(2).array() == base.points(2).array()).all());
+}
+
+TEST(CellComplex, ASubdividedLevelsRestTetrahedraTileTheBox) {
+  // No self-intersection at rest: the tetrahedra of every cell of C^k fill the box once.
+  OctreeLattice lattice(unit_box(), filling_points(4), options(1, 2));
+  const int l = lattice.subdivide(1, {lattice.complex(1).cell(0, 0, 0)});
+  const CellComplex& k = lattice.local(l).complex();
+  const Eigen::Matrix3Xd& x = lattice.local(l).rest();
+  double volume = 0;
+  for (std::size_t c = 0; c < k.num_cells(); ++c) {
+    const auto pts = k.cell_points(c);
+    Eigen::Vector3d C = Eigen::Vector3d::Zero();
+    for (auto p : pts) C += x.col(p);
+    C /= static_cast<double>(pts.size());
+    for (std::int32_t s = k.cell_offsets[c]; s < k.cell_offsets[c + 1]; ++s) {
+      const std::int32_t f = k.cell_faces[static_cast<std::size_t>(s)];
+      const std::int32_t o = k.face_offsets[f], n = k.face_offsets[f + 1] - o;
+      Eigen::Vector3d F = Eigen::Vector3d::Zero();
+      for (std::int32_t j = o; j < o + n; ++j) F += x.col(k.face_points[static_cast<std::size_t>(j)]);
+      F /= n;
+      for (std::int32_t j = 0; j < n; ++j) {
+        Eigen::Matrix3d M;
+        M << F - C, x.col(k.face_points[static_cast<std::size_t>(o + j)]) - C,
+            x.col(k.face_points[static_cast<std::size_t>(o + (j + 1) % n)]) - C;
+        volume += std::abs(M.determinant()) / 6;
+      }
+    }
+  }
+  EXPECT_NEAR(volume, 1.0, 1e-12);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "multires/volume_subdivision.h"
 
@@ -118,6 +119,11 @@ void OctreeLattice::shrink_level(int l, const Eigen::Matrix3Xd& t) {
 }
 
 Eigen::Matrix3Xd OctreeLattice::points(int l) const {
+  if (is_local(l)) {  // the octree rules from the source as shown, plus the level's own moves
+    const SubdividedLevel& level = local(l);
+    const Eigen::Matrix3Xd source = points(level.source_level()) - rest_points(level.source_level());
+    return level.rest() + (level.from_source() * source.transpose()).transpose() + level.delta();
+  }
   // Delta_0 = delta_0; Delta_l = O(Delta_{l-1}) + delta_l (octree rules: linear).
   bool any = false;
   for (int i = 0; i <= l; ++i) any = any || levels_[i].moved;
@@ -131,14 +137,13 @@ Eigen::Matrix3Xd OctreeLattice::points(int l) const {
 
 OctreeMove OctreeLattice::move_points(int l, const std::vector<std::int32_t>& ids,
                                       const std::vector<Eigen::Vector3d>& targets) {
-  OctreeMove report;
-  Level& level = levels_[l];
   const Eigen::Matrix3Xd shown = points(l);
   Eigen::Matrix3Xd change(3, static_cast<Eigen::Index>(ids.size()));
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    change.col(static_cast<Eigen::Index>(i)) = targets[i] - shown.col(ids[i]);
-    level.delta.col(ids[i]) += change.col(static_cast<Eigen::Index>(i));
-  }
+  for (std::size_t i = 0; i < ids.size(); ++i) change.col(static_cast<Eigen::Index>(i)) = targets[i] - shown.col(ids[i]);
+  if (is_local(l)) return move_local(l, ids, change);
+  OctreeMove report;
+  Level& level = levels_[l];
+  for (std::size_t i = 0; i < ids.size(); ++i) level.delta.col(ids[i]) += change.col(static_cast<Eigen::Index>(i));
   report.points_moved = ids.size();
   ensure_subdivided(l);
   update_displacements(l, ids, change, report);
@@ -224,13 +229,83 @@ void OctreeLattice::mark_changed(int l, const std::vector<std::int32_t>& ids, Oc
   for (std::size_t c = 0; c < g.num_cells(); ++c) report.cells_marked += level.changed[dense(g.cells[c], res)];
 }
 
+OctreeMove OctreeLattice::move_local(int l, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change) {
+  Local& entry = local_[static_cast<std::size_t>(l - num_grid_levels())];
+  SubdividedLevel& level = *entry.level;
+  level.move(ids, change);  // the whole level is subdivided again
+  OctreeMove report;
+  report.points_moved = ids.size();
+  report.cells_subdivided = level.complex().num_cells();
+  // N_{S,3}: its cells are at most 2 nodes wide, so 3 rings of cells lie within 6 nodes.
+  const int res = level.resolution();
+  for (std::int32_t id : ids) {
+    const GridIndex& p = level.nodes()[static_cast<std::size_t>(id)];
+    for (int k = std::max(0, p[2] - 6); k <= std::min(res - 1, p[2] + 5); ++k)
+      for (int j = std::max(0, p[1] - 6); j <= std::min(res - 1, p[1] + 5); ++j)
+        for (int i = std::max(0, p[0] - 6); i <= std::min(res - 1, p[0] + 5); ++i)
+          entry.changed[dense({i, j, k}, res)] = entry.active[dense({i, j, k}, res)] = 1;
+  }
+  report.cells_marked = static_cast<std::size_t>(std::count(entry.changed.begin(), entry.changed.end(), 1));
+  any_changed_ = any_changed_ || !ids.empty();
+  return report;
+}
+
+int OctreeLattice::subdivide(int l, const std::vector<std::int32_t>& cells) {
+  if (is_local(l)) throw std::invalid_argument("a locally subdivided level cannot be subdivided again");
+  std::vector<std::uint8_t> flags(complex(l).num_cells(), 0);
+  for (std::int32_t c : cells) flags.at(static_cast<std::size_t>(c)) = 1;
+  Local entry;
+  entry.level = std::make_unique<SubdividedLevel>(box_, l, complex(l), rest_points(l), flags, options_.cc_steps);
+  const int res = entry.level->resolution();
+  entry.changed.assign(static_cast<std::size_t>(res) * res * res, 0);
+  entry.active = entry.changed;
+  local_.push_back(std::move(entry));
+  return num_levels() - 1;
+}
+
+std::size_t OctreeLattice::num_points(int l) const {
+  return is_local(l) ? local(l).nodes().size() : complex(l).num_points();
+}
+
+std::size_t OctreeLattice::num_cells(int l) const {
+  return is_local(l) ? local(l).complex().num_cells() : complex(l).num_cells();
+}
+
+int OctreeLattice::resolution(int l) const { return is_local(l) ? local(l).resolution() : complex(l).resolution; }
+
+std::vector<std::array<std::int32_t, 2>> OctreeLattice::edges(int l) const {
+  if (is_local(l)) return local(l).edges();
+  std::vector<std::array<std::int32_t, 2>> out;
+  const GridComplex& g = complex(l);
+  // The edge from node n along `axis` belongs to a cell when one of the 4 cells around it is kept.
+  for (std::size_t p = 0; p < g.num_points(); ++p)
+    for (int axis = 0; axis < 3; ++axis) {
+      GridIndex m = g.points[p];
+      ++m[axis];
+      const std::int32_t q = g.point(m);
+      if (q < 0) continue;
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      bool used = false;
+      for (int k = 0; k < 4 && !used; ++k) {
+        GridIndex c = g.points[p];
+        c[u] -= k & 1;
+        c[v] -= k >> 1;
+        used = g.has_cell(c[0], c[1], c[2]);
+      }
+      if (used) out.push_back({static_cast<std::int32_t>(p), q});
+    }
+  return out;
+}
+
 void OctreeLattice::clear_changes() {
+  for (Local& entry : local_) std::fill(entry.changed.begin(), entry.changed.end(), 0);
   for (Level& level : levels_) std::fill(level.changed.begin(), level.changed.end(), 0);
   any_changed_ = false;
 }
 
 std::size_t OctreeLattice::bytes() const {
   std::size_t total = 0;
+  for (const Local& entry : local_) total += entry.level->bytes() + entry.changed.size() + entry.active.size();
   for (const Level& level : levels_) {
     for (const GridComplex& g : level.sub) total += g.bytes();
     for (const Eigen::Matrix3Xd& m : level.fine) total += static_cast<std::size_t>(m.size()) * sizeof(double);

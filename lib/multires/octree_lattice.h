@@ -32,7 +32,11 @@
 #include <string>
 #include <vector>
 
+#include <array>
+#include <memory>
+
 #include "multires/grid_complex.h"
+#include "multires/subdivided_level.h"
 #include "warp/parallelepiped.h"
 #include "warp/warp.h"
 
@@ -61,16 +65,35 @@ public:
 
   const Parallelepiped& box() const { return box_; }
   const OctreeOptions& options() const { return options_; }
-  int num_levels() const { return static_cast<int>(levels_.size()); }
+  /// The octree levels 0..options().levels, then one per local subdivision.
+  int num_levels() const { return static_cast<int>(levels_.size() + local_.size()); }
+  int num_grid_levels() const { return static_cast<int>(levels_.size()); }
+  /// Whether `level` was made by local subdivision (subdivide()).
+  bool is_local(int level) const { return level >= num_grid_levels(); }
+  const SubdividedLevel& local(int level) const { return *local_[static_cast<std::size_t>(level - num_grid_levels())].level; }
+  /// The grid of an octree level (not a local one).
   const GridComplex& complex(int level) const { return levels_[level].sub[0]; }
   /// Cells of refine(level - 1) cut because they hold no region vertex (0 at level 0).
-  std::size_t cut_cells(int level) const { return levels_[level].cut; }
+  std::size_t cut_cells(int level) const { return is_local(level) ? 0 : levels_[level].cut; }
+  std::size_t num_points(int level) const;
+  std::size_t num_cells(int level) const;
+  /// Grid nodes per axis of the level's point indices, minus one (2^level; twice the
+  /// source's for a local level).
+  int resolution(int level) const;
+  /// Each edge of the level's cells once, as pairs of point indices.
+  std::vector<std::array<std::int32_t, 2>> edges(int level) const;
+  /// Subdivides the cells `cells` (indices into complex(level).cells) of octree level
+  /// `level` by the octree rules, as a new level made from the level as shown (global to
+  /// local, so nothing moves); returns its index. \throw std::invalid_argument for a local level.
+  int subdivide(int level, const std::vector<std::int32_t>& cells);
   /// Rest positions of the level's points (columns, in `complex(level).points` order).
   const Eigen::Matrix3Xd& rest_points(int level) const { return levels_[level].rest; }
   /// The level's points as shown and moved: rest + O(coarser deformation) + own moves.
   Eigen::Matrix3Xd points(int level) const;
   /// Index of the level's point at grid node `node`, or -1.
-  std::int32_t point_index(int level, const GridIndex& node) const { return complex(level).point(node); }
+  std::int32_t point_index(int level, const GridIndex& node) const {
+    return is_local(level) ? local(level).point_index(node) : complex(level).point(node);
+  }
 
   /// Moves the level's points `ids` to `targets` (shown positions) and brings the
   /// subdivided displacement fields up to date (N_{S,4}), marking N_{S,3} as changed.
@@ -118,7 +141,12 @@ private:
     std::size_t cut = 0;
     bool moved = false;
   };
+  struct Local {  // a local level and its N_{S,3} marks on its node grid's cells
+    std::unique_ptr<SubdividedLevel> level;
+    std::vector<std::uint8_t> changed, active;
+  };
   void build_levels(const Eigen::Matrix3Xd& region);
+  OctreeMove move_local(int level, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change);
   void shrink_level(int level, const Eigen::Matrix3Xd& box_coords);
   void ensure_subdivided(int level) const;
   void update_displacements(int level, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change,
@@ -132,6 +160,7 @@ private:
   Parallelepiped box_;
   OctreeOptions options_;
   mutable std::vector<Level> levels_;
+  std::vector<Local> local_;
   bool any_changed_ = false;
 };
 

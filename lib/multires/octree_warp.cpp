@@ -90,6 +90,14 @@ bool OctreeLattice::displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, E
     d += displacement(l, where, jacobian);
     inside = true;
   }
+  for (const Local& entry : local_) {
+    if (!entry.level->moved()) continue;
+    const int res = entry.level->resolution();
+    GridIndex c;
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
+    if (!entry.active[(static_cast<std::size_t>(c[2]) * res + c[1]) * res + c[0]]) continue;
+    inside = entry.level->add_displacement(x, d, jacobian) || inside;
+  }
   return inside;
 }
 
@@ -132,30 +140,34 @@ void OctreeLattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_
   for (Eigen::Index v = 0; v < in_pos.cols(); ++v) {
     const Eigen::Vector3d t = box_.to_local(in_pos.col(v));
     if (!in_unit_cube(t, kInsideTolerance)) continue;
-    for (const Level& level : levels_) {
-      const int res = level.sub[0].resolution;
+    auto marked = [&](const std::vector<std::uint8_t>& changed, int res) {
       GridIndex c;
       for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
-      if (level.changed[(static_cast<std::size_t>(c[2]) * res + c[1]) * res + c[0]]) {
-        ids.push_back(static_cast<std::uint32_t>(v));
-        break;
-      }
-    }
+      return changed[(static_cast<std::size_t>(c[2]) * res + c[1]) * res + c[0]] != 0;
+    };
+    bool any = false;
+    for (const Level& level : levels_) any = any || marked(level.changed, level.sub[0].resolution);
+    for (const Local& entry : local_) any = any || marked(entry.changed, entry.level->resolution());
+    if (any) ids.push_back(static_cast<std::uint32_t>(v));
   }
 }
 
 bool OctreeLattice::can_act_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
-  const bool moved = std::any_of(levels_.begin(), levels_.end(), [](const Level& l) { return l.moved; });
+  const bool moved = std::any_of(levels_.begin(), levels_.end(), [](const Level& l) { return l.moved; }) ||
+                     std::any_of(local_.begin(), local_.end(), [](const Local& l) { return l.level->moved(); });
   return moved && box_.segment_meets(a, b, kInsideTolerance);
 }
 
 double OctreeLattice::feature_size() const {
-  return box_.extents().minCoeff() / levels_.back().sub[0].resolution;
+  int res = levels_.back().sub[0].resolution;
+  for (const Local& entry : local_) res = std::max(res, entry.level->resolution());
+  return box_.extents().minCoeff() / res;
 }
 
 void OctreeLattice::point_weights(int l, const Eigen::Vector3d& x,
                                   std::vector<std::pair<std::int32_t, double>>& out) const {
   out.clear();
+  if (is_local(l)) return local(l).point_weights(x, out);
   ensure_subdivided(l);
   Location where;
   if (!locate(l, x, where)) return;
