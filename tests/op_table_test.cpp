@@ -32,11 +32,14 @@ using test::write_file;
 
 // One minimal step per op: only its required keys (and one alternative), in op_list.h's
 // order, so that each names what the steps before it created. A new op adds its own.
+// The lattice is an octree one (basis is the one key beyond the required), so that
+// subdivide has its lattice too; move, drag and remesh take either kind.
 const std::map<std::string, json>& minimal_steps() {
   static const std::map<std::string, json> steps = {
-      {"lattice", {{"op", "lattice"}, {"name", "body"}, {"cells", {4, 4, 4}}}},
+      {"lattice", {{"op", "lattice"}, {"name", "body"}, {"basis", "octree"}}},
       {"move", {{"op", "move"}, {"lattice", "body"}, {"points", {{{"index", {2, 2, 2}}, {"by", {0, 0, 0.1}}}}}}},
       {"drag", {{"op", "drag"}, {"lattice", "body"}, {"points", {{{"vertex", 0}, {"to", {0, 0, 0}}}}}}},
+      {"subdivide", {{"op", "subdivide"}, {"lattice", "body"}, {"cells", {{"indices", {{1, 1, 1}}}}}}},
       {"remesh", {{"op", "remesh"}}},
       {"save", {{"op", "save"}, {"path", "mid.obj"}}},
       {"bcm",

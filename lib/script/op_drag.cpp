@@ -49,7 +49,7 @@ KeyTable<DragStep> drag_keys() {
                        [](auto& s) -> auto& { return s.points; })
                .required()
                .about("points", "/vertex"),
-           key<S>("/level", schema_integer(0, 6), nullptr,
+           key<S>("/level", schema_integer(0), nullptr,
                   "Octree lattices: the level whose points change (default: the finest).",
                   [](auto& s) -> auto& { return s.level; })}};
 }

@@ -206,7 +206,7 @@ void LatticeStep::run_octree(Scene& scene, StepContext& ctx) const {
   ctx.stats["vertices_inside"] = inside;
   ctx.stats["bytes"] = raw->bytes();
   const GridComplex& finest = raw->complex(raw->num_levels() - 1);
-  ctx.summary = "lattice '" + name + "': octree, " + std::to_string(octree.levels) + " levels (finest: " +
+  ctx.summary = "lattice '" + name + "': octree, levels 0-" + std::to_string(octree.levels) + " (finest: " +
                 format_count(finest.num_cells()) + " cells, " + format_count(finest.num_points()) + " points), " +
                 "cc_steps " + std::to_string(octree.cc_steps) + ", " + format_count(inside) + " vertices inside";
   if (inside == 0) scene.warnings.push_back(ctx.pointer + ": lattice '" + name + "' contains no mesh vertex");

@@ -3,6 +3,7 @@
 FFD_OP(lattice_op)
 FFD_OP(move_op)
 FFD_OP(drag_op)
+FFD_OP(subdivide_op)
 FFD_OP(remesh_op)
 FFD_OP(save_op)
 FFD_OP(bcm_op)

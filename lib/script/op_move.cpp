@@ -54,7 +54,7 @@ KeyTable<MoveStep> move_keys() {
            key<S>("/transform", schema_ref("transform"), nullptr,
                   "The map applied to the selected points; center: their centroid.",
                   [](auto& s) -> auto& { return s.transform; }),
-           key<S>("/level", schema_integer(0, 6), nullptr,
+           key<S>("/level", schema_integer(0), nullptr,
                   "Octree lattices: the level whose points move (default: the finest); index [i, j, k] is a grid "
                   "node of that level, 0 <= i, j, k <= 2^level. Moving a finer level after a coarser one edits "
                   "hierarchically: the finer level follows the coarser one's deformation.",
@@ -65,13 +65,14 @@ KeyTable<MoveStep> move_keys() {
 void MoveStep::check_octree(ScriptChecks& checks, int levels) const {
   if (level && *level > levels)
     checks.fail(pointer + "/level", "lattice '" + lattice + "' has levels 0 to " + std::to_string(levels));
-  const int top = 1 << level.value_or(levels);
+  // A local level's nodes are at twice its source's resolution; the run checks them.
+  const int top = 1 << std::min(level.value_or(levels), checks.octrees.at(lattice) + 1);
   for (std::size_t i = 0; i < points.size(); ++i)
     for (int a = 0; a < 3; ++a)
       if (points[i].index[a] < 0 || points[i].index[a] > top)
         checks.fail(pointer + "/points/" + std::to_string(i) + "/index",
                     "point " + write_value(points[i].index).dump() + " is not movable (movable: " +
-                        octree_points_text(level.value_or(levels)) + ")");
+                        octree_points_text(level.value_or(levels), top) + ")");
 }
 
 void MoveStep::check(ScriptChecks& checks) const {

@@ -49,7 +49,7 @@ KeyTable<SaveStep> save_keys() {
                   "Write this lattice's control net instead of the mesh (OBJ: its points as v, its edges as l), "
                   "where the lattices created after it carry it.",
                   [](auto& s) -> auto& { return s.lattice; }),
-           key<S>("/level", schema_integer(0, 6), nullptr, "With an octree lattice: the level (default: the finest).",
+           key<S>("/level", schema_integer(0), nullptr, "With an octree lattice: the level (default: the finest).",
                   [](auto& s) -> auto& { return s.level; })}};
 }
 

@@ -40,7 +40,9 @@ const LatticeSpec& ScriptChecks::lattice_of(const std::string& name, const std::
 
 int ScriptChecks::octree_levels(const std::string& name) const {
   auto it = octrees.find(name);
-  return it == octrees.end() ? -1 : it->second;
+  if (it == octrees.end()) return -1;
+  auto local = octree_local_levels.find(name);
+  return it->second + (local == octree_local_levels.end() ? 0 : local->second);
 }
 
 void ScriptChecks::check_new_lattice(const std::string& name, const std::string& pointer) const {

@@ -26,15 +26,17 @@ public:
   /// The lattice called `name`; fails at `pointer` if no step created it earlier.
   const LatticeSpec& lattice_of(const std::string& name, const std::string& pointer) const;
 
-  /// The levels of the octree lattice called `name`, or -1 when it is not one (a
-  /// tensor-product lattice, or none: then lattice_of says so).
+  /// The highest level index of the octree lattice called `name` (local levels included),
+  /// or -1 when it is not one (a tensor-product lattice, or none: then lattice_of says so).
   int octree_levels(const std::string& name) const;
   /// Fails at `pointer` when a lattice called `name` exists already.
   void check_new_lattice(const std::string& name, const std::string& pointer) const;
 
   std::map<std::string, LatticeSpec> lattices;
-  /// Octree lattices: name -> levels.
+  /// Octree lattices: name -> levels (octree subdivisions); and how many local levels
+  /// subdivide steps added after them.
   std::map<std::string, int> octrees;
+  std::map<std::string, int> octree_local_levels;
   /// Handle names of each bcm editor, in order (bcm steps record them, transform steps check).
   std::map<std::string, std::vector<std::string>> editor_handles;
 

@@ -159,8 +159,8 @@ std::vector<std::size_t> select_lattice_points(const Selection& selection, const
   return select_points(selection, pick);
 }
 
-std::string octree_points_text(int level) {
-  const std::string top = std::to_string(1 << level);
+std::string octree_points_text(int level, int resolution) {
+  const std::string top = std::to_string(resolution);
   return "the corners of level " + std::to_string(level) + "'s cells, grid nodes [i, j, k] in [0, " + top + "]";
 }
 
@@ -173,7 +173,25 @@ std::vector<std::size_t> select_octree_points(const Selection& selection, const 
     return static_cast<std::size_t>(id);
   };
   pick.movable = [](std::size_t) { return true; };
-  pick.movable_text = octree_points_text(level);
+  pick.movable_text = octree_points_text(level, lattice.resolution(level));
+  return select_points(selection, pick);
+}
+
+std::vector<std::size_t> select_octree_cells(const Selection& selection, const OctreeLattice& lattice, int level) {
+  const GridComplex& g = lattice.complex(level);
+  const Eigen::Matrix3Xd shown = lattice.points(level);
+  PickablePoints pick;
+  pick.points = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(g.num_cells()));
+  for (std::size_t c = 0; c < g.num_cells(); ++c)
+    for (int k = 0; k < 8; ++k) pick.points.col(static_cast<Eigen::Index>(c)) += shown.col(g.corner(c, k)) / 8;
+  pick.flat = [&](const Index3& ijk) -> std::optional<std::size_t> {
+    const std::int32_t c = g.cell(ijk[0], ijk[1], ijk[2]);
+    if (c < 0) return std::nullopt;
+    return static_cast<std::size_t>(c);
+  };
+  pick.movable = [](std::size_t) { return true; };
+  pick.movable_text = "the kept cells of level " + std::to_string(level) + ", [i, j, k] in [0, " +
+                      std::to_string(g.resolution - 1) + "]";
   return select_points(selection, pick);
 }
 

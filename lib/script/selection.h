@@ -30,8 +30,13 @@ std::vector<std::size_t> select_lattice_points(const Selection& selection, const
 /// position, or by grid node [i, j, k] at that level), as point indices, sorted. Every
 /// point of a level is movable. \throw InputError as select_lattice_points.
 std::vector<std::size_t> select_octree_points(const Selection& selection, const OctreeLattice& lattice, int level);
-/// "the corners of level 2's cells, grid nodes [i, j, k] in [0, 4]", for messages.
-std::string octree_points_text(int level);
+/// The cells of grid level `level` of an octree lattice `selection` picks: by cell index
+/// [i, j, k], or by the centroids of the cells as shown (`near`: the cell nearest the
+/// point, which on a regular grid is the cell holding it). Cell indices, sorted.
+std::vector<std::size_t> select_octree_cells(const Selection& selection, const OctreeLattice& lattice, int level);
+/// "the corners of level 2's cells, grid nodes [i, j, k] in [0, 4]", for messages
+/// (`resolution`: 2^level, or a local level's).
+std::string octree_points_text(int level, int resolution);
 
 /// Reads a selection file: one non-negative vertex index per line, '#' comments.
 /// \throw InputError "file:line: ..." on anything else.
