@@ -415,5 +415,48 @@ TEST(MultiresCli, FiveLevelsOnOtherMeshesCutCells) {
   }
 }
 
+// CGAL's elephant (libcgal-demo, installed by scripts/setup.sh, so this runs on CI too):
+// local subdivision of a level through the CLI, the new level moved, its net saved.
+TEST(MultiresCli, LocalSubdivisionOfCgalsElephant) {
+  const std::string tarball = "/usr/share/doc/libcgal-dev/data.tar.gz";
+  if (!fs::exists(tarball)) GTEST_SKIP() << "libcgal-demo is not installed";
+  const std::string data = temp_folder("multires_cgal");
+  ASSERT_EQ(std::system(("tar -xzf " + tarball + " -C " + quoted(data) + " data/meshes/elephant.off").c_str()), 0);
+  const std::string mesh = data + "/data/meshes/elephant.off";
+  const Mesh input = read_mesh(mesh);
+  const std::string lattice =
+      R"({"op": "lattice", "name": "auto", "basis": "octree", "box": {"fit": "obb", "padding": 0.02}, "levels": 3})";
+  const std::string subdivide = R"({"op": "subdivide", "lattice": "auto", "level": 2, "cells": {"indices": [[1, 1, 1], [2, 1, 1]]}})";
+  // Subdividing moves nothing, even after the coarser level moved: the new level starts
+  // from the level as shown.
+  const ToolRun still = run_script("subdivide_still", mesh,
+                                   {lattice, R"({"op": "move", "lattice": "auto", "level": 4, "points": [{"index": [4, 4, 4], "by": [0, 0, 0]}]})", subdivide},
+                                   "out.off");
+  ASSERT_NE(still.code, 0) << "level 4 does not exist before the subdivide step";
+  const ToolRun zero = run_script("subdivide_zero", mesh,
+                                  {lattice, subdivide, R"({"op": "move", "lattice": "auto", "level": 4, "points": [{"index": [4, 4, 4], "by": [0, 0, 0]}]})"});
+  ASSERT_EQ(zero.code, 0) << zero.err;
+  EXPECT_TRUE(changed_vertices(input, read_mesh(zero.dir + "/out.off")).empty());
+  const ToolRun r = run_script(
+      "subdivide_elephant", mesh,
+      {lattice, subdivide,
+       R"({"op": "move", "lattice": "auto", "level": 4, "points": [{"index": [4, 3, 3], "by": [0.0, 0.03, 0.0]}]})",
+       R"({"op": "save", "path": "net.obj", "lattice": "auto", "level": 4})",
+       R"({"op": "remesh", "theta_max_deg": 25.7, "theta_min_deg": 20.0})"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json& step = r.stats["steps"][1];
+  EXPECT_EQ(step["new_level"], 4);
+  EXPECT_EQ(step["cells_subdivided"], 2);
+  EXPECT_EQ(step["cell_ids"], json::parse("[[1, 1, 1], [2, 1, 1]]"));
+  const json& cells = r.stats["steps"][0]["levels"][2]["cells"];
+  EXPECT_EQ(step["cells"].get<long>(), cells.get<long>() - 2 + 16);
+  const std::string net = read_file(r.dir + "/net.obj");
+  long v_lines = 0;
+  std::istringstream lines(net);
+  for (std::string line; std::getline(lines, line);) v_lines += line.rfind("v ", 0) == 0;
+  EXPECT_EQ(v_lines, step["points"].get<long>());
+  EXPECT_GT(r.stats["steps"][2]["vertices_moved"].get<long>(), 0);
+}
+
 }  // namespace
 }  // namespace ffd

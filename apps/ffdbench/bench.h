@@ -80,5 +80,6 @@ void bench_bcm(Context& ctx);
 void bench_cholesky(Context& ctx);
 void bench_io(Context& ctx);
 void bench_pictures(Context& ctx);
+void bench_multires(Context& ctx);
 
 }  // namespace ffd::bench

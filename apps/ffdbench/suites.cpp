@@ -12,6 +12,8 @@ const std::vector<Suite>& suites() {
       {"io", "mesh file reading and writing per format, the end-to-end run against Blender", bench_io},
       {"pictures", "glTF read/write MB/s against binary PLY; render_mesh and write_png against a z-buffer fill and a mesh read",
        bench_pictures},
+      {"multires", "octree multiresolution lattices: Catmull-Clark memory and per-move time against Ono et al.'s tables and a cubic B-spline move",
+       bench_multires},
   };
   return all;
 }

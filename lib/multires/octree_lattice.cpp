@@ -71,6 +71,7 @@ void OctreeLattice::build_levels(const Eigen::Matrix3Xd& region) {
     level.disp.push_back(level.delta);
     level.changed.assign(static_cast<std::size_t>(g.resolution) * g.resolution * g.resolution, 0);
     level.active = level.changed;
+    level.epochs.assign(level.changed.size(), 0);
   }
 }
 
@@ -162,6 +163,8 @@ void OctreeLattice::ensure_subdivided(int l) const {
         subdivide_field(level.sub[k - 1], level.sub[k], level.fine[k - 1], SubdivisionRule::CatmullClark));
     level.disp.push_back(
         subdivide_field(level.sub[k - 1], level.sub[k], level.disp[k - 1], SubdivisionRule::CatmullClark));
+    if (level.sub[0].num_cells() <= options_.whole_level_cells)
+      level.steps.push_back(subdivision_matrix(level.sub[k - 1], level.sub[k], SubdivisionRule::CatmullClark));
   }
 }
 
@@ -186,16 +189,19 @@ void OctreeLattice::update_displacements(int l, const std::vector<std::int32_t>&
   Level& level = levels_[l];
   const GridComplex& g = level.sub[0];
   level.disp[0] = level.delta;
-  // N_{S,4}: the cells whose points all lie within dist 4 of S, i.e. within 3 cells of
-  // the cells around S. Outside them the moves' subdivided image is zero.
-  const std::vector<std::uint8_t> patch = cells_near(g, ids, 4, 3);
-  const std::size_t patch_cells = static_cast<std::size_t>(std::count(patch.begin(), patch.end(), 1));
-  if (g.num_cells() <= options_.whole_level_cells || 2 * patch_cells >= g.num_cells()) {
+  if (!level.steps.empty()) {  // a small level: its steps are matrices
     for (int k = 1; k <= options_.cc_steps; ++k)
-      level.disp[k] = subdivide_field(level.sub[k - 1], level.sub[k], level.disp[k - 1], SubdivisionRule::CatmullClark);
+      level.disp[k] = (level.steps[k - 1] * level.disp[k - 1].transpose()).transpose();
     report.cells_subdivided = g.num_cells();
     return;
   }
+  // The paper subdivides N_{S,4}. The moves' image after any number of steps lies in the
+  // cells of N_{S,2} (the limit's support: a B-spline's 4^3 cells); one more ring holds
+  // every element the rules read there, so N_{S,3} gives the whole level's subdivision
+  // (LocalSubdivisionAgreesWithSubdividingTheWholeLevel; N_{S,1} does not). Outside the
+  // patch the image is zero.
+  const std::vector<std::uint8_t> patch = cells_near(g, ids, 3, 2);
+  const std::size_t patch_cells = static_cast<std::size_t>(std::count(patch.begin(), patch.end(), 1));
   GridComplex local = sub_complex(g, [&](std::size_t c) { return patch[c] != 0; });
   Eigen::MatrixXd field = Eigen::MatrixXd::Zero(3, static_cast<Eigen::Index>(local.num_points()));
   for (std::size_t i = 0; i < ids.size(); ++i)
@@ -223,7 +229,7 @@ void OctreeLattice::mark_changed(int l, const std::vector<std::int32_t>& ids, Oc
     for (int k = std::max(0, p[2] - 3); k <= std::min(res - 1, p[2] + 2); ++k)
       for (int j = std::max(0, p[1] - 3); j <= std::min(res - 1, p[1] + 2); ++j)
         for (int i = std::max(0, p[0] - 3); i <= std::min(res - 1, p[0] + 2); ++i)
-          level.changed[dense({i, j, k}, res)] = level.active[dense({i, j, k}, res)] = 1;
+          level.changed[dense({i, j, k}, res)] = level.active[dense({i, j, k}, res)] = 1, ++level.epochs[dense({i, j, k}, res)];
   }
   report.cells_marked = 0;
   for (std::size_t c = 0; c < g.num_cells(); ++c) report.cells_marked += level.changed[dense(g.cells[c], res)];
@@ -243,7 +249,7 @@ OctreeMove OctreeLattice::move_local(int l, const std::vector<std::int32_t>& ids
     for (int k = std::max(0, p[2] - 6); k <= std::min(res - 1, p[2] + 5); ++k)
       for (int j = std::max(0, p[1] - 6); j <= std::min(res - 1, p[1] + 5); ++j)
         for (int i = std::max(0, p[0] - 6); i <= std::min(res - 1, p[0] + 5); ++i)
-          entry.changed[dense({i, j, k}, res)] = entry.active[dense({i, j, k}, res)] = 1;
+          entry.changed[dense({i, j, k}, res)] = entry.active[dense({i, j, k}, res)] = 1, ++entry.epochs[dense({i, j, k}, res)];
   }
   report.cells_marked = static_cast<std::size_t>(std::count(entry.changed.begin(), entry.changed.end(), 1));
   any_changed_ = any_changed_ || !ids.empty();
@@ -259,6 +265,7 @@ int OctreeLattice::subdivide(int l, const std::vector<std::int32_t>& cells) {
   const int res = entry.level->resolution();
   entry.changed.assign(static_cast<std::size_t>(res) * res * res, 0);
   entry.active = entry.changed;
+  entry.epochs.assign(entry.changed.size(), 0);
   local_.push_back(std::move(entry));
   return num_levels() - 1;
 }
@@ -305,13 +312,17 @@ void OctreeLattice::clear_changes() {
 
 std::size_t OctreeLattice::bytes() const {
   std::size_t total = 0;
-  for (const Local& entry : local_) total += entry.level->bytes() + entry.changed.size() + entry.active.size();
+  for (const Local& entry : local_)
+    total += entry.level->bytes() + entry.changed.size() + entry.active.size() + 4 * entry.epochs.size();
+  total += static_cast<std::size_t>(cache_key_.size()) * sizeof(double);
+  for (const auto& tags : cache_) total += tags.size() * sizeof(Tag);
   for (const Level& level : levels_) {
     for (const GridComplex& g : level.sub) total += g.bytes();
     for (const Eigen::Matrix3Xd& m : level.fine) total += static_cast<std::size_t>(m.size()) * sizeof(double);
     for (const Eigen::Matrix3Xd& m : level.disp) total += static_cast<std::size_t>(m.size()) * sizeof(double);
+    for (const auto& S : level.steps) total += static_cast<std::size_t>(S.nonZeros()) * (sizeof(double) + sizeof(int));
     total += static_cast<std::size_t>(level.rest.size() + level.delta.size()) * sizeof(double) +
-             level.changed.size() + level.active.size();
+             level.changed.size() + level.active.size() + 4 * level.epochs.size();
   }
   return total;
 }

@@ -23,7 +23,8 @@
 // F_{l+1}(x) = F_l(x) + [G(x; O(L_l') + delta) - G(x; O(L_l'))], and G is linear.
 //
 // Locality (section 3.2): moving points S at level l re-subdivides only the cells of
-// N_{S,4} (or the whole level when it is small), and marks the cells of N_{S,3}:
+// N_{S,3}, which is exact (the paper takes N_{S,4}; see update_displacements), or the
+// whole level when it is small, and marks the cells of N_{S,3}:
 // changed_points() reports only the vertices there; every other vertex is untouched.
 // Points outside every cell of every moved level are never changed, bit for bit.
 #pragma once
@@ -46,7 +47,9 @@ struct OctreeOptions {
   int levels = 3;        // octree subdivisions of the box
   int cc_steps = 2;      // Catmull-Clark volume subdivisions n
   double shrink = -1;    // offset of shrunk boundary points from the region; < 0: no shrink
-  /// Levels with at most this many cells are subdivided whole on a move, not by N_{S,4}.
+  /// Levels with at most this many cells keep their Catmull-Clark steps as matrices and
+  /// are subdivided whole on a move, not by N_{S,3} (ffdbench --suite multires measures
+  /// the two).
   std::size_t whole_level_cells = 512;
 };
 
@@ -96,7 +99,7 @@ public:
   }
 
   /// Moves the level's points `ids` to `targets` (shown positions) and brings the
-  /// subdivided displacement fields up to date (N_{S,4}), marking N_{S,3} as changed.
+  /// subdivided displacement fields up to date (N_{S,3}), marking N_{S,3} as changed.
   OctreeMove move_points(int level, const std::vector<std::int32_t>& ids, const std::vector<Eigen::Vector3d>& targets);
   /// The weights at x of the level's points: F(x) changes by sum w_j d_j when point j's
   /// shown position moves by d_j. Empty when x lies in no cell of the level.
@@ -135,15 +138,18 @@ private:
     std::vector<GridComplex> sub;          // sub[k] = C^k topology; sub[0] the level itself
     std::vector<Eigen::Matrix3Xd> fine;    // fine[k] = C^k(R_l) positions (built on first use)
     std::vector<Eigen::Matrix3Xd> disp;    // disp[k] = C^k(delta_l)
+    std::vector<Eigen::SparseMatrix<double, Eigen::RowMajor>> steps;  // small levels: C as matrices
     Eigen::Matrix3Xd rest, delta;
     std::vector<std::uint8_t> changed;     // dense over the level's whole grid: N_{S,3} marks
     std::vector<std::uint8_t> active;      // the same, never cleared: where D_l may be non-zero
+    std::vector<std::uint32_t> epochs;     // per cell of the grid: moves that marked it
     std::size_t cut = 0;
     bool moved = false;
   };
   struct Local {  // a local level and its N_{S,3} marks on its node grid's cells
     std::unique_ptr<SubdividedLevel> level;
     std::vector<std::uint8_t> changed, active;
+    std::vector<std::uint32_t> epochs;
   };
   void build_levels(const Eigen::Matrix3Xd& region);
   OctreeMove move_local(int level, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change);
@@ -153,15 +159,49 @@ private:
                             OctreeMove& report);
   void mark_changed(int level, const std::vector<std::int32_t>& ids, OctreeMove& report);
   Eigen::Vector3d displacement(int level, const Location& where, Eigen::Matrix3d* jacobian) const;
+  /// One level's part of F(x) - x and of dF/dx - I, at x with box coordinates t; false
+  /// (and d, J zero) when the level leaves x alone: not moved, or not near x.
+  bool level_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Eigen::Vector3d& d,
+                  Eigen::Matrix3d& J) const;
   /// F(x) - x summed over the moved levels, and whether x lies in a cell where some
   /// level's displacement may be non-zero (if not, F(x) = x exactly).
   bool displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const;
+  bool moved(int level) const { return is_local(level) ? local(level).moved() : levels_[level].moved; }
+  /// The level's marks over its grid's cells (of its node grid for a local level): where
+  /// its displacement may be non-zero, and how many moves marked each cell.
+  const std::vector<std::uint8_t>& active(int level) const;
+  const std::vector<std::uint32_t>& epochs(int level) const;
+  void size_cache(Eigen::Index vertices) const;
+  struct Tag;
+  bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag) const;
+  /// level_part() through a vertex's tag (`same`: the tag is for x).
+  bool tagged_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag, Eigen::Vector3d& d,
+                   Eigen::Matrix3d& J) const;
 
   Parallelepiped box_;
   OctreeOptions options_;
   mutable std::vector<Level> levels_;
   std::vector<Local> local_;
   bool any_changed_ = false;
+  // The batch apply's tags (section 3.2: "each vertex is tagged with a pointer to the
+  // minimal cell ... and its local coordinate in the cell"): per vertex, the input position
+  // they are for, and per moved level where the vertex lies in the level's subdivided rest
+  // lattices (grid levels), and the level's part of F and dF/dx with the epoch of the
+  // vertex's cell it was computed at. The rest lattices never change, so a tag holds while
+  // the vertex stays where it was: a move at one level recomputes only that level's parts
+  // in the cells it marked, from the tags, without locating anything again.
+  struct Tag {
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+    std::uint32_t epoch = 0;  // of d and J; 0: not computed
+    std::int32_t cell = -1;
+    std::int8_t step = -1;
+    std::uint8_t state = 0;  // 0: not located yet, 1: in a cell, 2: in none
+    bool inside = false;     // d and J are a part
+  };
+  mutable Eigen::Matrix3Xd cache_key_;
+  mutable std::vector<std::vector<Tag>> cache_;
 };
 
 }  // namespace ffd

@@ -2,6 +2,7 @@
 // relocation by the subdivided displacements (Ono et al. section 3.2).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "multires/cell_coordinates.h"
@@ -71,32 +72,81 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
   return d;
 }
 
+const std::vector<std::uint8_t>& OctreeLattice::active(int l) const {
+  return is_local(l) ? local_[static_cast<std::size_t>(l - num_grid_levels())].active : levels_[l].active;
+}
+
+const std::vector<std::uint32_t>& OctreeLattice::epochs(int l) const {
+  return is_local(l) ? local_[static_cast<std::size_t>(l - num_grid_levels())].epochs : levels_[l].epochs;
+}
+
+/// The cell of the dense grid with `res` cells per axis that holds box coordinates t.
+static std::size_t grid_slot(const Eigen::Vector3d& t, int res) {
+  GridIndex c;
+  for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
+  return (static_cast<std::size_t>(c[2]) * res + c[1]) * res + c[0];
+}
+
+bool OctreeLattice::level_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Eigen::Vector3d& d,
+                               Eigen::Matrix3d& J) const {
+  d.setZero();
+  J.setZero();
+  // Outside the cells any move marked, the level's displacement is zero: skip the search.
+  if (!moved(l) || !active(l)[grid_slot(t, resolution(l))]) return false;
+  if (is_local(l)) return local(l).add_displacement(x, d, &J);
+  Location where;
+  if (!locate(l, x, t, where)) return false;
+  d = displacement(l, where, &J);
+  return true;
+}
+
+bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag,
+                                Eigen::Vector3d& d, Eigen::Matrix3d& J) const {
+  if (!same) tag = Tag{};
+  const std::size_t slot = grid_slot(t, resolution(l));
+  const std::uint32_t epoch = epochs(l)[slot] + 1;
+  if (tag.epoch == epoch) {  // nothing moved near the vertex at this level since
+    d = tag.d, J = tag.J;
+    return tag.inside;
+  }
+  tag.epoch = epoch;
+  if (is_local(l)) {
+    tag.inside = level_part(l, x, t, tag.d, tag.J);
+  } else {
+    tag.inside = tagged_grid_part(l, x, t, tag);
+  }
+  d = tag.d, J = tag.J;
+  return tag.inside;
+}
+
+bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag) const {
+  tag.d.setZero();
+  tag.J.setZero();
+  if (!active(l)[grid_slot(t, resolution(l))]) return false;
+  if (tag.state == 0) {
+    Location where;
+    tag.state = locate(l, x, t, where) ? 1 : 2;
+    tag.u = where.u, tag.cell = where.cell, tag.step = static_cast<std::int8_t>(where.step);
+  }
+  if (tag.state != 1) return false;
+  Location where{tag.step, tag.cell, tag.u};
+  tag.d = displacement(l, where, &tag.J);
+  return true;
+}
+
 bool OctreeLattice::displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const {
   d.setZero();
   if (jacobian) jacobian->setIdentity();
   const Eigen::Vector3d t = box_.to_local(x);
   if (!in_unit_cube(t, kInsideTolerance)) return false;
   bool inside = false;
-  for (const Level& level : levels_) {
-    if (!level.moved) continue;
-    // Outside the cells any move marked, D_l is zero: skip the search.
-    const int res = level.sub[0].resolution;
-    GridIndex c;
-    for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
-    if (!level.active[(static_cast<std::size_t>(c[2]) * res + c[1]) * res + c[0]]) continue;
-    const int l = static_cast<int>(&level - levels_.data());
-    Location where;
-    if (!locate(l, x, t, where)) continue;
-    d += displacement(l, where, jacobian);
+  for (int l = 0; l < num_levels(); ++l) {
+    Eigen::Vector3d dl;
+    Eigen::Matrix3d Jl;
+    if (!level_part(l, x, t, dl, Jl)) continue;
+    d += dl;
+    if (jacobian) *jacobian += Jl;
     inside = true;
-  }
-  for (const Local& entry : local_) {
-    if (!entry.level->moved()) continue;
-    const int res = entry.level->resolution();
-    GridIndex c;
-    for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
-    if (!entry.active[(static_cast<std::size_t>(c[2]) * res + c[1]) * res + c[0]]) continue;
-    inside = entry.level->add_displacement(x, d, jacobian) || inside;
   }
   return inside;
 }
@@ -107,18 +157,45 @@ Eigen::Vector3d OctreeLattice::apply(const Eigen::Vector3d& x, Eigen::Matrix3d* 
   return x + d;
 }
 
+void OctreeLattice::size_cache(Eigen::Index vertices) const {
+  if (cache_key_.cols() < vertices) {
+    const Eigen::Index old = cache_key_.cols();
+    cache_key_.conservativeResize(3, vertices);
+    cache_key_.rightCols(vertices - old).setConstant(std::numeric_limits<double>::quiet_NaN());  // matches nothing
+  }
+  cache_.resize(static_cast<std::size_t>(num_levels()));
+  for (int l = 0; l < num_levels(); ++l)
+    if (moved(l) && cache_[static_cast<std::size_t>(l)].size() < static_cast<std::size_t>(vertices))
+      cache_[static_cast<std::size_t>(l)].resize(static_cast<std::size_t>(vertices));
+}
+
 void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
                           const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                           Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const {
+  size_cache(in_pos.cols());
   std::size_t folded = 0, evaluated = 0;
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size());
 #pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const std::uint32_t v = ids[static_cast<std::size_t>(i)];
     const Eigen::Vector3d x = in_pos.col(v);
-    Eigen::Matrix3d J;
-    Eigen::Vector3d d;
-    if (!displacement(x, d, &J)) {  // in no cell where a level moved: untouched, bit for bit
+    const Eigen::Vector3d t = box_.to_local(x);
+    // Sums the levels' parts as displacement() does, locating the vertex in a grid level
+    // only when its tag is not for this position.
+    const bool same = (cache_key_.col(v).array() == x.array()).all();
+    Eigen::Vector3d d = Eigen::Vector3d::Zero(), dl;
+    Eigen::Matrix3d J = Eigen::Matrix3d::Identity(), Jl;
+    bool inside = false;
+    if (in_unit_cube(t, kInsideTolerance))
+      for (int l = 0; l < num_levels(); ++l) {
+        if (!moved(l)) continue;
+        if (!tagged_part(l, x, t, same, cache_[static_cast<std::size_t>(l)][v], dl, Jl)) continue;
+        d += dl;
+        J += Jl;
+        inside = true;
+      }
+    cache_key_.col(v) = x;
+    if (!inside) {  // in no cell where a level moved: untouched, bit for bit
       out_pos.col(v) = x;
       out_nrm.col(v) = in_nrm.col(v);
       continue;

@@ -141,7 +141,9 @@ bool SubdividedLevel::add_displacement(const Eigen::Vector3d& x, Eigen::Vector3d
   if (!moved_ || !locate(x, where)) return false;
   std::vector<std::pair<std::int32_t, double>> w;
   tet_weights(where, w);
-  for (const auto& [p, wp] : w) d += wp * disp_[static_cast<std::size_t>(where.step)].col(p);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& [p, wp] : w) sum += wp * disp_[static_cast<std::size_t>(where.step)].col(p);
+  d += sum;
   if (jacobian) {  // affine in the tetrahedron: I + [dF - dC, da - dC, db - dC] [F - C, a - C, b - C]^-1
     Eigen::Matrix<double, 3, 4> rest = Eigen::Matrix<double, 3, 4>::Zero(), moved = rest;
     for (int corner = 0; corner < 4; ++corner) {

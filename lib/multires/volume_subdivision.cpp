@@ -109,14 +109,15 @@ void boundary_vertex_stencil(const GridComplex& g, const GridIndex& p, StencilBu
     return;
   }
   // Catmull-Clark surface rule: (Q + 2R + (n - 3) P) / n over the boundary faces and edges.
-  std::vector<std::pair<GridIndex, int>> faces;
+  std::pair<GridIndex, int> faces[12];
+  int count = 0;
   for (int axis = 0; axis < 3; ++axis)
     for (int k = 0; k < 4; ++k) {
       const GridIndex f = shifted(shifted(p, (axis + 1) % 3, -(k & 1)), (axis + 2) % 3, -(k >> 1));
-      if (present(g, f) != present(g, shifted(f, axis, -1))) faces.push_back({f, axis});
+      if (present(g, f) != present(g, shifted(f, axis, -1))) faces[count++] = {f, axis};
     }
   const double n = boundary_edges;
-  for (const auto& [f, axis] : faces) s.face(f, axis, 1.0 / (n * static_cast<double>(faces.size())));
+  for (int i = 0; i < count; ++i) s.face(faces[i].first, faces[i].second, 1.0 / (n * count));
   for (int axis = 0; axis < 3; ++axis)
     for (int dir = 0; dir < 2; ++dir) {
       const GridIndex e = dir ? shifted(p, axis, -1) : p;
@@ -183,6 +184,20 @@ Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fi
     }
   }
   return out;
+}
+
+Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision_matrix(const GridComplex& coarse, const GridComplex& fine,
+                                                               SubdivisionRule rule) {
+  std::vector<Eigen::Triplet<double>> t;
+  Stencil stencil;
+  for (std::size_t f = 0; f < fine.num_points(); ++f) {
+    subdivision_stencil(coarse, fine.points[f], rule, stencil);
+    for (const auto& [p, w] : stencil) t.emplace_back(static_cast<int>(f), p, w);
+  }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> S(static_cast<Eigen::Index>(fine.num_points()),
+                                                 static_cast<Eigen::Index>(coarse.num_points()));
+  S.setFromTriplets(t.begin(), t.end());
+  return S;
 }
 
 }  // namespace ffd

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "multires/grid_complex.h"
 
@@ -38,5 +39,10 @@ void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, Subdi
 /// any thread count.
 Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
                                 SubdivisionRule rule);
+
+/// The same map as a matrix (fine points x coarse points, weights of a point merged):
+/// subdivide_field(coarse, fine, X, rule) = (S * X^T)^T up to rounding.
+Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision_matrix(const GridComplex& coarse, const GridComplex& fine,
+                                                               SubdivisionRule rule);
 
 }  // namespace ffd

@@ -79,6 +79,10 @@ KeyTable<LatticeStep> lattice_keys() {
 
 void LatticeStep::check_octree(ScriptChecks& checks) const {
   if (cells) checks.fail(pointer + "/cells", "an octree lattice takes levels, not cells");
+  // The finest subdivided lattice has 2^(levels + cc_steps) cells per axis at most.
+  if (octree.levels + octree.cc_steps > 8)
+    checks.fail(pointer + "/cc_steps", "levels + cc_steps is at most 8 (2^8 subdivided cells per axis); use fewer "
+                                        "Catmull-Clark steps on a fine level");
   if (enclose) {
     if (!checks.lattices.count(*enclose) && checks.octree_levels(*enclose) < 0)
       checks.fail(pointer + "/enclose", "no lattice named '" + *enclose + "' is created before this step");
