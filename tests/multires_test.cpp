@@ -13,6 +13,7 @@
 #include "test_meshes.h"
 #include "warp/box_fit.h"
 #include "warp/bspline_lattice.h"
+#include "warp/warp_stack.h"
 
 namespace ffd {
 namespace {
@@ -446,6 +447,59 @@ TEST(CellComplex, ASubdividedLevelsRestTetrahedraTileTheBox) {
     }
   }
   EXPECT_NEAR(volume, 1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace ffd
+
+namespace ffd {
+namespace {
+
+TEST(OctreeLattice, TheObbAxesAreTheCovarianceEigenvectors) {
+  // The octree's level 0 with fit "obb": independently, the eigenvectors of the bunny's
+  // vertex covariance; each box axis is parallel to one of them.
+  BunnyLattice b;
+  const Eigen::Vector3d mean = b.x.rowwise().mean();
+  const Eigen::Matrix3Xd centred = b.x.colwise() - mean;
+  const Eigen::Matrix3d covariance = centred * centred.transpose() / static_cast<double>(b.x.cols());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  ASSERT_GT(eigen.eigenvalues()[1] - eigen.eigenvalues()[0], 1e-6 * eigen.eigenvalues()[2]);  // distinct
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::Vector3d axis = b.box.axes().col(a).normalized();
+    double best = 0;
+    for (int e = 0; e < 3; ++e) best = std::max(best, std::abs(axis.dot(eigen.eigenvectors().col(e))));
+    EXPECT_NEAR(best, 1.0, 1e-9) << "axis " << a;
+  }
+}
+
+TEST(OctreeLattice, ComposesInTheWarpStackWithABSplineLattice) {
+  // A B-spline lattice, then an octree lattice around its output; the mesh is the octree
+  // applied to the B-spline's output, vertex by vertex, and normals follow both Jacobians.
+  Mesh mesh = test::bunny();
+  const Eigen::Matrix3Xd rest = mesh.positions();
+  WarpStack stack;
+  auto bspline = std::make_unique<BSplineLattice>(fit_aabb(rest, {}, 0.05), Index3{6, 6, 6}, 3);
+  BSplineLattice* first = bspline.get();
+  stack.push(mesh, "body", std::move(bspline));
+  first->move_point({3, 3, 3}, first->point({3, 3, 3}) + Eigen::Vector3d(0.01, 0.02, 0));
+  stack.update(mesh, "body");
+  const Eigen::Matrix3Xd between = mesh.positions();
+  auto octree = std::make_unique<OctreeLattice>(fit_principal_box(between, {}, 0.05), between, options(3, 2));
+  OctreeLattice* second = octree.get();
+  stack.push(mesh, "auto", std::move(octree));
+  move_one(*second, 2, second->complex(2).points[second->complex(2).num_points() / 2], Eigen::Vector3d(0, 0.02, 0.01));
+  stack.update(mesh, "auto");
+  std::size_t differ = 0;
+  for (Eigen::Index v = 0; v < rest.cols(); ++v) {
+    const Eigen::Vector3d expected = second->apply(first->apply(rest.col(v), nullptr), nullptr);
+    differ += (mesh.positions().col(v) - expected).norm() > 1e-12;
+  }
+  EXPECT_EQ(differ, 0u);
+  // Moving the B-spline lattice again re-evaluates through the octree above it.
+  first->move_point({3, 3, 3}, first->point({3, 3, 3}) + Eigen::Vector3d(0, -0.02, 0));
+  stack.update(mesh, "body");
+  for (Eigen::Index v = 0; v < rest.cols(); v += 7)
+    EXPECT_LT((mesh.positions().col(v) - second->apply(first->apply(rest.col(v), nullptr), nullptr)).norm(), 1e-12);
 }
 
 }  // namespace

@@ -38,8 +38,14 @@ std::string step_over_budget(const json& step, Costs& c) {
   const std::string op = step.value("op", "");
   if (op == "lattice") {
     ++c.lattices;
-    for (const json& n : step.at("cells"))
-      if (n.get<std::size_t>() > kMaxCells) return "a lattice with more than 8 cells on an axis";
+    if (step.value("basis", "") == "octree") {
+      // Octree lattices: levels + Catmull-Clark steps bound the finest subdivided grid.
+      if (step.at("levels").get<int>() + step.at("cc_steps").get<int>() > 6)
+        return "an octree lattice with levels + cc_steps above 6";
+    } else {
+      for (const json& n : step.at("cells"))
+        if (n.get<std::size_t>() > kMaxCells) return "a lattice with more than 8 cells on an axis";
+    }
     if (step.at("box").value("fit", "") == "min_volume") ++c.min_volume;
   } else if (op == "remesh") {
     ++c.remesh;

@@ -11,7 +11,8 @@
 namespace ffd::fuzz {
 
 /// Why a resolved script (Script::resolved) would take too long for one fuzz input, or ""
-/// when it is within the budget: at most 12 steps, 4 lattices of at most 8 cells per axis,
+/// when it is within the budget: at most 12 steps, 4 lattices of at most 8 cells per axis
+/// (octree lattices: levels + cc_steps at most 6),
 /// 3 remesh steps with max_level at most 3, 3 bcm editors of at most 4 handles, 4 frames
 /// per transform, 4 saves, 16 drag points, 64 moved points, and no min_volume box fit
 /// (CGAL's optimal box on exact predicates takes seconds under ASan even on this mesh;
