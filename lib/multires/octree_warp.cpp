@@ -201,9 +201,7 @@ void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, cons
       continue;
     }
     out_pos.col(v) = x + d;
-    const Eigen::Vector3d m = cofactor_times(J, in_nrm.col(v));
-    const double len = m.norm();
-    out_nrm.col(v) = len > 0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
+    out_nrm.col(v) = transformed_normal(J, in_nrm.col(v));
     folded += J.determinant() <= 0;
     ++evaluated;
   }

@@ -108,9 +108,7 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
     Eigen::Matrix3d G;  // columns: dD/du, dD/dv, dD/dw in box coordinates
     G << du[0], dv[0], dwv[0], du[1], dv[1], dwv[1], du[2], dv[2], dwv[2];
     const Eigen::Matrix3d J = Eigen::Matrix3d::Identity() + G * inv;
-    const Eigen::Vector3d m = cofactor_times(J, in_nrm.col(v));
-    const double len = m.norm();
-    out_nrm.col(v) = len > 0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
+    out_nrm.col(v) = transformed_normal(J, in_nrm.col(v));
     if (J.determinant() <= 0) ++folded;
   }
   counts.evaluated += evaluated;

@@ -162,9 +162,7 @@ void Lattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
     }
     Eigen::Matrix3d J;
     out_pos.col(v) = apply(x, &J);
-    const Eigen::Vector3d m = cofactor_times(J, in_nrm.col(v));
-    const double len = m.norm();
-    out_nrm.col(v) = len > 0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
+    out_nrm.col(v) = transformed_normal(J, in_nrm.col(v));
     if (J.determinant() <= 0) ++folded;
     ++evaluated;
   }

@@ -58,6 +58,13 @@ inline Eigen::Vector3d cofactor_times(const Eigen::Matrix3d& J, const Eigen::Vec
          J.col(0).cross(J.col(1)) * n[2];
 }
 
+/// unit cof(J) n: a normal through the warp (a zero result stays zero).
+inline Eigen::Vector3d transformed_normal(const Eigen::Matrix3d& J, const Eigen::Vector3d& n) {
+  const Eigen::Vector3d m = cofactor_times(J, n);
+  const double len = m.norm();
+  return len > 0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
+}
+
 /// The cofactor matrix cof(J) = det(J) J^-T, well defined for singular J too.
 inline Eigen::Matrix3d cofactor(const Eigen::Matrix3d& J) {
   Eigen::Matrix3d C;
