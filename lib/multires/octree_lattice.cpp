@@ -238,20 +238,27 @@ void OctreeLattice::mark_changed(int l, const std::vector<std::int32_t>& ids, Oc
 OctreeMove OctreeLattice::move_local(int l, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change) {
   Local& entry = local_[static_cast<std::size_t>(l - num_grid_levels())];
   SubdividedLevel& level = *entry.level;
-  level.move(ids, change);  // the whole level is subdivided again
+  // The whole level is subdivided again; the vertices to relocate are those in the rest
+  // cells the change reaches (at most N_{S,3}), marked on the level's node grid.
+  const std::vector<SubdividedLevel::Bounds> reached = level.move(ids, change);
   OctreeMove report;
   report.points_moved = ids.size();
   report.cells_subdivided = level.complex().num_cells();
-  // N_{S,3}: its cells are at most 2 nodes wide, so 3 rings of cells lie within 6 nodes.
   const int res = level.resolution();
-  for (std::int32_t id : ids) {
-    const GridIndex& p = level.nodes()[static_cast<std::size_t>(id)];
-    for (int k = std::max(0, p[2] - 6); k <= std::min(res - 1, p[2] + 5); ++k)
-      for (int j = std::max(0, p[1] - 6); j <= std::min(res - 1, p[1] + 5); ++j)
-        for (int i = std::max(0, p[0] - 6); i <= std::min(res - 1, p[0] + 5); ++i)
-          entry.changed[dense({i, j, k}, res)] = entry.active[dense({i, j, k}, res)] = 1, ++entry.epochs[dense({i, j, k}, res)];
+  for (const auto& [lo, hi] : reached) {
+    int a[3], z[3];
+    for (int i = 0; i < 3; ++i) {
+      a[i] = std::clamp(static_cast<int>(std::floor((lo[i] - kInsideTolerance) * res)), 0, res - 1);
+      z[i] = std::clamp(static_cast<int>(std::floor((hi[i] + kInsideTolerance) * res)), 0, res - 1);
+    }
+    for (int k = a[2]; k <= z[2]; ++k)
+      for (int j = a[1]; j <= z[1]; ++j)
+        for (int i = a[0]; i <= z[0]; ++i) {
+          const std::size_t c = dense({i, j, k}, res);
+          if (!entry.changed[c]) ++entry.epochs[c], ++report.cells_marked;
+          entry.changed[c] = entry.active[c] = 1;
+        }
   }
-  report.cells_marked = static_cast<std::size_t>(std::count(entry.changed.begin(), entry.changed.end(), 1));
   any_changed_ = any_changed_ || !ids.empty();
   return report;
 }

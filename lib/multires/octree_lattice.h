@@ -90,7 +90,9 @@ public:
   /// local, so nothing moves); returns its index. \throw std::invalid_argument for a local level.
   int subdivide(int level, const std::vector<std::int32_t>& cells);
   /// Rest positions of the level's points (columns, in `complex(level).points` order).
-  const Eigen::Matrix3Xd& rest_points(int level) const { return levels_[level].rest; }
+  const Eigen::Matrix3Xd& rest_points(int level) const {
+    return is_local(level) ? local(level).rest() : levels_[level].rest;
+  }
   /// The level's points as shown and moved: rest + O(coarser deformation) + own moves.
   Eigen::Matrix3Xd points(int level) const;
   /// Index of the level's point at grid node `node`, or -1.
@@ -174,6 +176,7 @@ private:
   void size_cache(Eigen::Index vertices) const;
   struct Tag;
   bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag) const;
+  bool tagged_local_part(int level, const Eigen::Vector3d& x, Tag& tag) const;
   /// level_part() through a vertex's tag (`same`: the tag is for x).
   bool tagged_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag, Eigen::Vector3d& d,
                    Eigen::Matrix3d& J) const;
@@ -195,8 +198,8 @@ private:
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
     Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
     std::uint32_t epoch = 0;  // of d and J; 0: not computed
-    std::int32_t cell = -1;
-    std::int8_t step = -1;
+    std::int32_t cell = -1, face = -1;  // face, slot: a local level's tetrahedron (u: its lambda 1..3)
+    std::int8_t step = -1, slot = -1;
     std::uint8_t state = 0;  // 0: not located yet, 1: in a cell, 2: in none
     bool inside = false;     // d and J are a part
   };

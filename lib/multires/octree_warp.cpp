@@ -61,12 +61,17 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
   double w[8];
   Eigen::Matrix<double, 8, 3> dw;
   trilinear_weights(where.u, w, jacobian ? &dw : nullptr);
-  const CellCorners D = corners_of(g, level.disp[where.step], where.cell);
+  std::int32_t corner[8];
+  for (int c = 0; c < 8; ++c) corner[c] = g.corner(static_cast<std::size_t>(where.cell), c);
+  CellCorners D;
+  for (int c = 0; c < 8; ++c) D.col(c) = level.disp[where.step].col(corner[c]);
   Eigen::Vector3d d = Eigen::Vector3d::Zero();
   for (int c = 0; c < 8; ++c) d += w[c] * D.col(c);
   if (jacobian) {
     // dF/dx = I + (dD/du) (dx/du)^-1, dx/du from the rest cell.
-    const Eigen::Matrix3d dx_du = corners_of(g, level.fine[where.step], where.cell) * dw;
+    CellCorners Q;
+    for (int c = 0; c < 8; ++c) Q.col(c) = level.fine[where.step].col(corner[c]);
+    const Eigen::Matrix3d dx_du = Q * dw;
     *jacobian += (D * dw) * dx_du.inverse();
   }
   return d;
@@ -110,19 +115,34 @@ bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Ve
     return tag.inside;
   }
   tag.epoch = epoch;
-  if (is_local(l)) {
-    tag.inside = level_part(l, x, t, tag.d, tag.J);
+  if (!active(l)[slot]) {
+    tag.d.setZero(), tag.J.setZero();
+    tag.inside = false;
   } else {
-    tag.inside = tagged_grid_part(l, x, t, tag);
+    tag.inside = is_local(l) ? tagged_local_part(l, x, tag) : tagged_grid_part(l, x, t, tag);
   }
   d = tag.d, J = tag.J;
   return tag.inside;
 }
 
+bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag) const {
+  tag.d.setZero();
+  tag.J.setZero();
+  SubdividedLevel::Location where;
+  if (tag.state == 0) {
+    tag.state = local(l).locate(x, where) ? 1 : 2;
+    tag.u = where.lambda.tail<3>(), tag.cell = where.cell, tag.face = where.face;
+    tag.step = static_cast<std::int8_t>(where.step), tag.slot = static_cast<std::int8_t>(where.slot);
+  }
+  if (tag.state != 1) return false;
+  where = {tag.step, tag.cell, tag.face, tag.slot, Eigen::Vector4d(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2])};
+  tag.d = local(l).displacement(where, &tag.J);
+  return true;
+}
+
 bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag) const {
   tag.d.setZero();
   tag.J.setZero();
-  if (!active(l)[grid_slot(t, resolution(l))]) return false;
   if (tag.state == 0) {
     Location where;
     tag.state = locate(l, x, t, where) ? 1 : 2;

@@ -37,8 +37,21 @@ SubdividedLevel::SubdividedLevel(const Parallelepiped& box, int source_level, co
     disp_.push_back(Eigen::Matrix3Xd::Zero(3, fine_[k].cols()));
   }
   for (int k = 0; k <= cc_steps; ++k) {
+    const CellComplex& g = sub_[k];
     cell_points_.emplace_back();
-    for (std::size_t c = 0; c < sub_[k].num_cells(); ++c) cell_points_[k].push_back(sub_[k].cell_points(c));
+    cell_centroids_.emplace_back(3, static_cast<Eigen::Index>(g.num_cells()));
+    face_centroids_.emplace_back(3, static_cast<Eigen::Index>(g.num_faces()));
+    for (std::size_t c = 0; c < g.num_cells(); ++c) {
+      cell_points_[k].push_back(g.cell_points(c));
+      Eigen::Vector3d C = Eigen::Vector3d::Zero();
+      for (std::int32_t p : cell_points_[k][c]) C += fine_[k].col(p);
+      cell_centroids_[k].col(static_cast<Eigen::Index>(c)) = C / static_cast<double>(cell_points_[k][c].size());
+    }
+    for (std::size_t f = 0; f < g.num_faces(); ++f) {
+      Eigen::Vector3d F = Eigen::Vector3d::Zero();
+      for (std::int32_t j = g.face_offsets[f]; j < g.face_offsets[f + 1]; ++j) F += fine_[k].col(g.face_points[static_cast<std::size_t>(j)]);
+      face_centroids_[k].col(static_cast<Eigen::Index>(f)) = F / (g.face_offsets[f + 1] - g.face_offsets[f]);
+    }
     build_buckets(k);
   }
 }
@@ -51,6 +64,15 @@ std::int32_t SubdividedLevel::point_index(const GridIndex& n) const {
   return it != nodes_.end() && *it == n ? static_cast<std::int32_t>(it - nodes_.begin()) : -1;
 }
 
+SubdividedLevel::Bounds SubdividedLevel::cell_bounds(int k, std::size_t c) const {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
+  for (std::int32_t p : cell_points_[k][c]) {
+    const Eigen::Vector3d t = box_.to_local(fine_[k].col(p));
+    lo = lo.cwiseMin(t), hi = hi.cwiseMax(t);
+  }
+  return {lo, hi};
+}
+
 /// A uniform grid of buckets over the box, each listing the cells whose points' bounds
 /// (in box coordinates) meet it.
 void SubdividedLevel::build_buckets(int k) {
@@ -59,11 +81,7 @@ void SubdividedLevel::build_buckets(int k) {
   const std::size_t cells = sub_[k].num_cells();
   std::vector<std::vector<std::int32_t>> lists(static_cast<std::size_t>(b.n) * b.n * b.n);
   for (std::size_t c = 0; c < cells; ++c) {
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
-    for (std::int32_t p : cell_points_[k][c]) {
-      const Eigen::Vector3d t = box_.to_local(fine_[k].col(p));
-      lo = lo.cwiseMin(t), hi = hi.cwiseMax(t);
-    }
+    const auto [lo, hi] = cell_bounds(k, c);
     int a[3], z[3];
     for (int i = 0; i < 3; ++i) {
       a[i] = std::clamp(static_cast<int>(std::floor((lo[i] - kTetTolerance) * b.n)), 0, b.n - 1);
@@ -86,12 +104,8 @@ bool SubdividedLevel::in_tet(int k, std::int32_t c, std::int32_t f, std::int32_t
                              Tet& where) const {
   const CellComplex& g = sub_[k];
   const Eigen::Matrix3Xd& X = fine_[k];
-  Eigen::Vector3d C = Eigen::Vector3d::Zero(), F = Eigen::Vector3d::Zero();
-  for (std::int32_t p : cell_points_[k][static_cast<std::size_t>(c)]) C += X.col(p);
-  C /= static_cast<double>(cell_points_[k][static_cast<std::size_t>(c)].size());
+  const Eigen::Vector3d C = cell_centroids_[k].col(c), F = face_centroids_[k].col(f);
   const std::int32_t o = g.face_offsets[f], n = g.face_offsets[f + 1] - o;
-  for (std::int32_t j = o; j < o + n; ++j) F += X.col(g.face_points[static_cast<std::size_t>(j)]);
-  F /= n;
   const Eigen::Vector3d a = X.col(g.face_points[static_cast<std::size_t>(o + slot)]);
   const Eigen::Vector3d b = X.col(g.face_points[static_cast<std::size_t>(o + (slot + 1) % n)]);
   Eigen::Matrix3d M;
@@ -136,14 +150,11 @@ void SubdividedLevel::tet_weights(const Tet& w, std::vector<std::pair<std::int32
   out.push_back({g.face_points[static_cast<std::size_t>(o + (w.slot + 1) % n)], w.lambda[3]});
 }
 
-bool SubdividedLevel::add_displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const {
-  Tet where;
-  if (!moved_ || !locate(x, where)) return false;
+Eigen::Vector3d SubdividedLevel::displacement(const Location& where, Eigen::Matrix3d* jacobian) const {
   std::vector<std::pair<std::int32_t, double>> w;
   tet_weights(where, w);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const auto& [p, wp] : w) sum += wp * disp_[static_cast<std::size_t>(where.step)].col(p);
-  d += sum;
   if (jacobian) {  // affine in the tetrahedron: I + [dF - dC, da - dC, db - dC] [F - C, a - C, b - C]^-1
     Eigen::Matrix<double, 3, 4> rest = Eigen::Matrix<double, 3, 4>::Zero(), moved = rest;
     for (int corner = 0; corner < 4; ++corner) {
@@ -159,14 +170,38 @@ bool SubdividedLevel::add_displacement(const Eigen::Vector3d& x, Eigen::Vector3d
     for (int i = 0; i < 3; ++i) R.col(i) = rest.col(i + 1) - rest.col(0), D.col(i) = moved.col(i + 1) - moved.col(0);
     *jacobian += D * R.inverse();
   }
+  return sum;
+}
+
+bool SubdividedLevel::add_displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const {
+  Tet where;
+  if (!moved_ || !locate(x, where)) return false;
+  d += displacement(where, jacobian);
   return true;
 }
 
-void SubdividedLevel::move(const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change) {
-  for (std::size_t i = 0; i < ids.size(); ++i) delta_.col(ids[i]) += change.col(static_cast<Eigen::Index>(i));
+std::vector<SubdividedLevel::Bounds> SubdividedLevel::move(const std::vector<std::int32_t>& ids,
+                                                            const Eigen::Matrix3Xd& change) {
+  Eigen::Matrix3Xd image = Eigen::Matrix3Xd::Zero(3, delta_.cols());
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    delta_.col(ids[i]) += change.col(static_cast<Eigen::Index>(i));
+    image.col(ids[i]) = Eigen::Vector3d::Ones();  // marks the points the change reaches
+  }
   disp_[0] = delta_;
   for (std::size_t k = 1; k < disp_.size(); ++k) disp_[k] = (steps_[k - 1] * disp_[k - 1].transpose()).transpose();
   moved_ = true;
+  std::vector<Bounds> reached;
+  for (std::size_t k = 0; k < sub_.size(); ++k) {
+    // The reach through the steps' stencils (non-negative weights: no cancellation).
+    if (k > 0) image = (steps_[k - 1].cwiseAbs() * image.transpose()).transpose();
+    for (std::size_t c = 0; c < sub_[k].num_cells(); ++c)
+      for (std::int32_t p : cell_points_[k][c])
+        if (image(0, p) != 0) {
+          reached.push_back(cell_bounds(static_cast<int>(k), c));
+          break;
+        }
+  }
+  return reached;
 }
 
 void SubdividedLevel::point_weights(const Eigen::Vector3d& x, std::vector<std::pair<std::int32_t, double>>& out) const {
@@ -196,6 +231,8 @@ std::size_t SubdividedLevel::bytes() const {
   for (const auto& m : disp_) total += static_cast<std::size_t>(m.size()) * sizeof(double);
   for (const auto& s : steps_) total += static_cast<std::size_t>(s.nonZeros()) * (sizeof(double) + sizeof(int));
   for (const auto& b : buckets_) total += (b.offsets.size() + b.cells.size()) * sizeof(std::int32_t);
+  for (const auto& m : cell_centroids_) total += static_cast<std::size_t>(m.size()) * sizeof(double);
+  for (const auto& m : face_centroids_) total += static_cast<std::size_t>(m.size()) * sizeof(double);
   return total;
 }
 

@@ -43,8 +43,24 @@ public:
   const Eigen::Matrix3Xd& delta() const { return delta_; }
   bool moved() const { return moved_; }
 
-  /// Adds `change` to the moves of points `ids` and re-subdivides the moves (the whole level).
-  void move(const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change);
+  /// Where a point lies: the tetrahedron (cell centroid, face centroid, the face's edge
+  /// from loop[slot] to loop[slot + 1]) of a cell of C^step, and its barycentric coordinates.
+  struct Location {
+    int step = -1;
+    std::int32_t cell = -1, face = -1, slot = -1;
+    Eigen::Vector4d lambda = Eigen::Vector4d::Zero();  // (cell centroid, face centroid, a, b)
+  };
+  /// The tetrahedron of the finest C^k (the minimal cell) that holds x; false when none does.
+  bool locate(const Eigen::Vector3d& x, Location& where) const;
+  /// This level's F(x) - x at `where`, and its part of dF/dx - I when asked.
+  Eigen::Vector3d displacement(const Location& where, Eigen::Matrix3d* jacobian) const;
+
+  /// Bounds, in box coordinates, of a region where a move changed the displacement.
+  using Bounds = std::pair<Eigen::Vector3d, Eigen::Vector3d>;
+  /// Adds `change` to the moves of points `ids` and re-subdivides the moves (the whole
+  /// level); returns the bounds of the rest cells, at every step, whose points the change
+  /// reaches (vertices elsewhere keep their positions).
+  std::vector<Bounds> move(const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change);
   /// F(x) - x of this level (adds to `d`, and to `jacobian`); false when x is in no cell.
   bool add_displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const;
   /// The weights of this level's points at x (empty when x is in no cell).
@@ -54,15 +70,12 @@ public:
   std::size_t bytes() const;
 
 private:
-  struct Tet {
-    int step = -1;
-    std::int32_t cell = -1, face = -1, slot = -1;  // the face's edge from loop[slot] to loop[slot + 1]
-    Eigen::Vector4d lambda = Eigen::Vector4d::Zero();  // (cell centroid, face centroid, a, b)
-  };
-  bool locate(const Eigen::Vector3d& x, Tet& where) const;
+  using Tet = Location;
   bool in_tet(int k, std::int32_t c, std::int32_t f, std::int32_t slot, const Eigen::Vector3d& x, Tet& where) const;
   /// Point weights of tet `where`'s barycentric coordinates, on C^k's points.
   void tet_weights(const Tet& where, std::vector<std::pair<std::int32_t, double>>& out) const;
+  /// Box-coordinate bounds of cell c of C^k at rest.
+  Bounds cell_bounds(int k, std::size_t c) const;
   void build_buckets(int k);
 
   Parallelepiped box_;
@@ -72,6 +85,7 @@ private:
   Eigen::SparseMatrix<double, Eigen::RowMajor> from_source_;
   std::vector<CellComplex> sub_;
   std::vector<std::vector<std::vector<std::int32_t>>> cell_points_;  // per step, per cell
+  std::vector<Eigen::Matrix3Xd> cell_centroids_, face_centroids_;    // per step, at rest
   std::vector<Eigen::SparseMatrix<double, Eigen::RowMajor>> steps_;  // C^k = steps_[k-1] * C^(k-1)
   std::vector<Eigen::Matrix3Xd> fine_, disp_;
   Eigen::Matrix3Xd delta_;
