@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -30,15 +31,25 @@ using test::temp_folder;
 using test::without_measurements;
 using test::write_file;
 
-// A mesh of the shared set beside the repository, "" when it is not there.
+// A mesh of the shared set beside the repository, or else the same file from Debian's
+// libcgal-demo (../shared/meshes are byte-for-byte copies of its data/meshes/), extracted
+// once; "" when neither is there.
 std::string shared_mesh(const std::string& name) {
   const fs::path p = (fs::path(FFD_SOURCE_DIR) / ".." / "shared" / "meshes" / name).lexically_normal();
-  return fs::exists(p) ? p.string() : std::string();
+  if (fs::exists(p)) return p.string();
+  const std::string tarball = "/usr/share/doc/libcgal-dev/data.tar.gz";
+  if (!fs::exists(tarball)) return {};
+  static const std::string dir = temp_folder("multires_cgal_meshes");
+  const std::string out = dir + "/data/meshes/" + name;
+  if (!fs::exists(out) &&
+      std::system(("tar -xzf " + tarball + " -C " + quoted(dir) + " data/meshes/" + name).c_str()) != 0)
+    return {};
+  return fs::exists(out) ? out : std::string();
 }
 
 #define SHARED_MESH_OR_SKIP(var, name)                                          \
   const std::string var = shared_mesh(name);                                    \
-  if (var.empty()) GTEST_SKIP() << "../shared/meshes/" << name << " is missing"
+  if (var.empty()) GTEST_SKIP() << "../shared/meshes/" << name << " is missing, and libcgal-demo too"
 
 const std::string kLattice =
     R"({"op": "lattice", "name": "auto", "basis": "octree", "box": {"fit": "obb", "padding": 0.02}, )"

@@ -255,7 +255,8 @@ OctreeMove OctreeLattice::move_local(int l, const std::vector<std::int32_t>& ids
       for (int j = a[1]; j <= z[1]; ++j)
         for (int i = a[0]; i <= z[0]; ++i) {
           const std::size_t c = dense({i, j, k}, res);
-          if (!entry.changed[c]) ++entry.epochs[c], ++report.cells_marked;
+          ++entry.epochs[c];  // every mark, so that no vertex keeps a part from before it
+          report.cells_marked += !entry.changed[c];
           entry.changed[c] = entry.active[c] = 1;
         }
   }

@@ -48,8 +48,10 @@ struct OctreeOptions {
   int cc_steps = 2;      // Catmull-Clark volume subdivisions n
   double shrink = -1;    // offset of shrunk boundary points from the region; < 0: no shrink
   /// Levels with at most this many cells keep their Catmull-Clark steps as matrices and
-  /// are subdivided whole on a move, not by N_{S,3} (ffdbench --suite multires measures
-  /// the two).
+  /// are subdivided whole on a move, not by N_{S,3}. Measured on refined_elephant, one
+  /// thread: a move at 175 cells takes 0.34 ms by matrices against 2.3 by N_{S,3}, at 751
+  /// cells 1.5 against 3.1, at 2,994 cells 7.1 against 2.4; the matrices double the level's
+  /// memory (16 MB against 7 at 751 cells). 512 keeps them where they cost under ~10 MB.
   std::size_t whole_level_cells = 512;
 };
 
