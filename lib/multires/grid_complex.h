@@ -7,7 +7,7 @@
 // cell is its integer index, a point its grid node, and edges and faces are implied by
 // the indices: adjacency is one array lookup, and nothing but the cell list, a dense
 // index over the complex's bounding range and the positions is stored (see
-// `bytes()`; the paper's LEDS needs ~600 B per cell, this ~40 B on a full grid).
+// `bytes()`; the paper's LEDS needs ~600 B per cell, this ~45 B on a full grid).
 //
 // Promises: `cells` and `points` are sorted by (k, j, i); a point is a grid node that is
 // a corner of at least one cell; indices of cells and points are positions in those lists.

@@ -27,14 +27,17 @@
 // whole level when it is small, and marks the cells of N_{S,3}:
 // changed_points() reports only the vertices there; every other vertex is untouched.
 // Points outside every cell of every moved level are never changed, bit for bit.
+//
+// Local subdivision (section 2.2, Figure 3): subdivide() adds a level made of chosen cells
+// of a level split by the octree rules (a SubdividedLevel, of general topology), shown
+// from that level's deformation and moved like any other.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
-
-#include <array>
-#include <memory>
 
 #include "multires/grid_complex.h"
 #include "multires/subdivided_level.h"
