@@ -363,6 +363,43 @@ void print_moves(const json& moves) {
 
 }  // namespace
 
+/// The small-level threshold (OctreeOptions::whole_level_cells): median ms of
+/// move_points at levels 2..5 of `mesh` when every level keeps its steps as matrices and
+/// when every move re-subdivides N_{S,3}, and the memory each way adds to the lattice.
+json threshold_rows(const Mesh& mesh, const char* name, std::size_t count) {
+  const Eigen::Matrix3Xd x = mesh.positions();
+  const Parallelepiped box = fit_principal_box(x, {}, 0.02);
+  json rows = json::array();
+  for (const bool matrices : {false, true}) {
+    OctreeOptions options;
+    options.levels = kLevels;
+    options.cc_steps = kCcSteps;
+    options.whole_level_cells = matrices ? std::size_t{1} << 30 : 0;
+    OctreeLattice lattice(box, x, options);
+    for (int level = 2; level <= kLevels; ++level) {
+      std::mt19937 rng(5u + static_cast<unsigned>(level));
+      std::vector<double> ms;
+      const double before = static_cast<double>(lattice.bytes());
+      for (std::size_t m = 0; m <= count; ++m) {  // move 0 builds the level's subdivision
+        const auto id = static_cast<std::int32_t>(
+            std::uniform_int_distribution<std::size_t>(0, lattice.num_points(level) - 1)(rng));
+        const Eigen::Vector3d target = lattice.points(level).col(id) + random_offset(rng, 0.01 * box.extents().maxCoeff());
+        Stopwatch clock;
+        lattice.move_points(level, {id}, {target});
+        if (m > 0) ms.push_back(clock.ms());
+        lattice.clear_changes();
+      }
+      rows.push_back({{"mesh", name},
+                      {"case", matrices ? "whole level by matrices" : "N_{S,3} by stencils"},
+                      {"level", level},
+                      {"level_cells", lattice.num_cells(level)},
+                      {"move_points_ms", median(ms)},
+                      {"bytes_added", static_cast<double>(lattice.bytes()) - before}});
+    }
+  }
+  return rows;
+}
+
 void bench_multires(Context& ctx) {
   json memory = json::array();
   for (int k = 0; k <= 5; ++k) memory.push_back(memory_row(k, ctx.repeats));
@@ -374,9 +411,16 @@ void bench_multires(Context& ctx) {
                                               : std::vector<MeshCase>{kArmadillo, kBunny00, kElephant};
   for (const MeshCase& mc : big) mesh_rows(mc, load(ctx, mc.name), 1, count, moves, lattice_memory);
   if (cores > 1) mesh_rows(kElephant, load(ctx, kElephant.name), cores, count, moves, lattice_memory);
+  omp_set_num_threads(1);
+  const json threshold = threshold_rows(load(ctx, kElephant.name), kElephant.name, count);
   omp_set_num_threads(cores);
   print_moves(moves);
-  ctx.out["multires"] = {{"memory", memory}, {"moves", moves}, {"lattice_memory", lattice_memory}};
+  for (const json& r : threshold)
+    std::fprintf(stderr, "multires threshold: %-24s level %d, %5zu cells: move_points %6.2f ms, +%.1f MB\n",
+                 r["case"].get<std::string>().c_str(), r["level"].get<int>(), r["level_cells"].get<std::size_t>(),
+                 r["move_points_ms"].get<double>(), r["bytes_added"].get<double>() / 1e6);
+  ctx.out["multires"] = {
+      {"memory", memory}, {"moves", moves}, {"lattice_memory", lattice_memory}, {"threshold", threshold}};
 }
 
 }  // namespace ffd::bench
