@@ -13,9 +13,13 @@
 // a corner of at least one cell; indices of cells and points are positions in those lists.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
+
+#include <Eigen/Core>
 
 namespace ffd {
 
@@ -54,6 +58,19 @@ struct GridComplex {
   /// Bytes held by the topology (cells, points, dense indices).
   std::size_t bytes() const;
 };
+
+/// The cell, of a grid with `resolution` cells per axis over the unit cube, that holds
+/// box coordinates t (points outside are clamped to the nearest cell).
+inline GridIndex grid_cell_at(const Eigen::Vector3d& t, int resolution) {
+  GridIndex c;
+  for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * resolution)), 0, resolution - 1);
+  return c;
+}
+
+/// Index of cell c in a dense array over every cell of a grid with `resolution` per axis.
+inline std::size_t dense_cell(const GridIndex& c, int resolution) {
+  return (static_cast<std::size_t>(c[2]) * resolution + c[1]) * resolution + c[0];
+}
 
 /// The complex of the given cells of a grid with `resolution` cells per axis. Duplicates
 /// are merged. \throw std::invalid_argument for a cell outside [0, resolution).

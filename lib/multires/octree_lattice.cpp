@@ -12,19 +12,13 @@ namespace {
 
 constexpr double kInsideTolerance = 1e-9;
 
-/// The grid cell at `resolution` of box coordinates t (clamped into the grid).
-GridIndex grid_cell(const Eigen::Vector3d& t, int resolution) {
-  GridIndex g;
-  for (int a = 0; a < 3; ++a)
-    g[a] = std::clamp(static_cast<int>(std::floor(t[a] * resolution)), 0, resolution - 1);
-  return g;
-}
-
-std::size_t dense(const GridIndex& g, int resolution) {
-  return (static_cast<std::size_t>(g[2]) * resolution + g[1]) * resolution + g[0];
-}
-
 }  // namespace
+
+OctreeLattice::Marks::Marks(int res)
+    : resolution(res),
+      changed(static_cast<std::size_t>(res) * res * res, 0),
+      active(changed.size(), 0),
+      epochs(changed.size(), 0) {}
 
 OctreeLattice::OctreeLattice(const Parallelepiped& box, const Eigen::Matrix3Xd& region, const OctreeOptions& options)
     : box_(box), options_(options) {
@@ -53,9 +47,9 @@ void OctreeLattice::build_levels(const Eigen::Matrix3Xd& region) {
     const GridComplex refined = refine(levels_[l - 1].sub[0]);
     const int res = refined.resolution;
     std::vector<std::uint8_t> holds(static_cast<std::size_t>(res) * res * res, 0);
-    for (Eigen::Index v = 0; v < t.cols(); ++v) holds[dense(grid_cell(t.col(v), res), res)] = 1;
+    for (Eigen::Index v = 0; v < t.cols(); ++v) holds[dense_cell(grid_cell_at(t.col(v), res), res)] = 1;
     levels_[l].sub.push_back(
-        sub_complex(refined, [&](std::size_t c) { return holds[dense(refined.cells[c], res)] != 0; }));
+        sub_complex(refined, [&](std::size_t c) { return holds[dense_cell(refined.cells[c], res)] != 0; }));
     levels_[l].cut = refined.num_cells() - levels_[l].sub[0].num_cells();
   }
   for (int l = 0; l <= options_.levels; ++l) {
@@ -69,9 +63,7 @@ void OctreeLattice::build_levels(const Eigen::Matrix3Xd& region) {
     level.delta = Eigen::Matrix3Xd::Zero(3, level.rest.cols());
     level.fine.push_back(level.rest);
     level.disp.push_back(level.delta);
-    level.changed.assign(static_cast<std::size_t>(g.resolution) * g.resolution * g.resolution, 0);
-    level.active = level.changed;
-    level.epochs.assign(level.changed.size(), 0);
+    level.marks = Marks(g.resolution);
   }
 }
 
@@ -90,7 +82,7 @@ void OctreeLattice::shrink_level(int l, const Eigen::Matrix3Xd& t) {
   Eigen::Matrix3Xd lo = Eigen::Matrix3Xd::Constant(3, static_cast<Eigen::Index>(g.num_cells()), HUGE_VAL);
   Eigen::Matrix3Xd hi = -lo;
   for (Eigen::Index v = 0; v < t.cols(); ++v) {
-    const GridIndex c = grid_cell(t.col(v), res);
+    const GridIndex c = grid_cell_at(t.col(v), res);
     const std::int32_t cell = g.cell(c[0], c[1], c[2]);
     if (cell < 0) continue;
     lo.col(cell) = lo.col(cell).cwiseMin(t.col(v));
@@ -125,15 +117,23 @@ Eigen::Matrix3Xd OctreeLattice::points(int l) const {
     const Eigen::Matrix3Xd source = points(level.source_level()) - rest_points(level.source_level());
     return level.rest() + (level.from_source() * source.transpose()).transpose() + level.delta();
   }
-  // Delta_0 = delta_0; Delta_l = O(Delta_{l-1}) + delta_l (octree rules: linear).
   bool any = false;
   for (int i = 0; i <= l; ++i) any = any || levels_[i].moved;
   if (!any) return levels_[l].rest;
-  Eigen::MatrixXd deformation = levels_[0].delta;
-  for (int i = 1; i <= l; ++i)
-    deformation = subdivide_field(levels_[i - 1].sub[0], levels_[i].sub[0], deformation, SubdivisionRule::Octree) +
-                  Eigen::MatrixXd(levels_[i].delta);
-  return levels_[l].rest + deformation;
+  return levels_[l].rest + deformation(l);
+}
+
+const Eigen::MatrixXd& OctreeLattice::deformation(int l) const {
+  // Delta_0 = delta_0; Delta_l = O(Delta_{l-1}) + delta_l (octree rules: linear). Kept
+  // until the next move, so that showing a level does not redo the coarser ones.
+  if (deformation_.size() != levels_.size()) deformation_.assign(levels_.size(), Eigen::MatrixXd());
+  Eigen::MatrixXd& delta = deformation_[static_cast<std::size_t>(l)];
+  if (delta.size() == 0)
+    delta = l == 0 ? Eigen::MatrixXd(levels_[0].delta)
+                   : Eigen::MatrixXd(subdivide_field(levels_[l - 1].sub[0], levels_[l].sub[0], deformation(l - 1),
+                                                     SubdivisionRule::Octree) +
+                                     Eigen::MatrixXd(levels_[l].delta));
+  return delta;
 }
 
 OctreeMove OctreeLattice::move_points(int l, const std::vector<std::int32_t>& ids,
@@ -141,6 +141,7 @@ OctreeMove OctreeLattice::move_points(int l, const std::vector<std::int32_t>& id
   const Eigen::Matrix3Xd shown = points(l);
   Eigen::Matrix3Xd change(3, static_cast<Eigen::Index>(ids.size()));
   for (std::size_t i = 0; i < ids.size(); ++i) change.col(static_cast<Eigen::Index>(i)) = targets[i] - shown.col(ids[i]);
+  deformation_.clear();  // a level's moves show in the levels made from it
   if (is_local(l)) return move_local(l, ids, change);
   OctreeMove report;
   Level& level = levels_[l];
@@ -161,8 +162,8 @@ void OctreeLattice::ensure_subdivided(int l) const {
     level.sub.push_back(refine(level.sub[k - 1]));
     level.fine.push_back(
         subdivide_field(level.sub[k - 1], level.sub[k], level.fine[k - 1], SubdivisionRule::CatmullClark));
-    level.disp.push_back(
-        subdivide_field(level.sub[k - 1], level.sub[k], level.disp[k - 1], SubdivisionRule::CatmullClark));
+    // A level is subdivided before its first move: there is nothing to subdivide yet.
+    level.disp.push_back(Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(level.sub[k].num_points())));
     if (level.sub[0].num_cells() <= options_.whole_level_cells)
       level.steps.push_back(subdivision_matrix(level.sub[k - 1], level.sub[k], SubdivisionRule::CatmullClark));
   }
@@ -229,10 +230,10 @@ void OctreeLattice::mark_changed(int l, const std::vector<std::int32_t>& ids, Oc
     for (int k = std::max(0, p[2] - 3); k <= std::min(res - 1, p[2] + 2); ++k)
       for (int j = std::max(0, p[1] - 3); j <= std::min(res - 1, p[1] + 2); ++j)
         for (int i = std::max(0, p[0] - 3); i <= std::min(res - 1, p[0] + 2); ++i)
-          level.changed[dense({i, j, k}, res)] = level.active[dense({i, j, k}, res)] = 1, ++level.epochs[dense({i, j, k}, res)];
+          level.marks.mark(dense_cell({i, j, k}, res));
   }
   report.cells_marked = 0;
-  for (std::size_t c = 0; c < g.num_cells(); ++c) report.cells_marked += level.changed[dense(g.cells[c], res)];
+  for (std::size_t c = 0; c < g.num_cells(); ++c) report.cells_marked += level.marks.changed[dense_cell(g.cells[c], res)];
 }
 
 OctreeMove OctreeLattice::move_local(int l, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change) {
@@ -254,10 +255,9 @@ OctreeMove OctreeLattice::move_local(int l, const std::vector<std::int32_t>& ids
     for (int k = a[2]; k <= z[2]; ++k)
       for (int j = a[1]; j <= z[1]; ++j)
         for (int i = a[0]; i <= z[0]; ++i) {
-          const std::size_t c = dense({i, j, k}, res);
-          ++entry.epochs[c];  // every mark, so that no vertex keeps a part from before it
-          report.cells_marked += !entry.changed[c];
-          entry.changed[c] = entry.active[c] = 1;
+          const std::size_t c = dense_cell({i, j, k}, res);
+          report.cells_marked += !entry.marks.changed[c];
+          entry.marks.mark(c);  // every mark counts, so that no vertex keeps a part from before it
         }
   }
   any_changed_ = any_changed_ || !ids.empty();
@@ -270,10 +270,7 @@ int OctreeLattice::subdivide(int l, const std::vector<std::int32_t>& cells) {
   for (std::int32_t c : cells) flags.at(static_cast<std::size_t>(c)) = 1;
   Local entry;
   entry.level = std::make_unique<SubdividedLevel>(box_, l, complex(l), rest_points(l), flags, options_.cc_steps);
-  const int res = entry.level->resolution();
-  entry.changed.assign(static_cast<std::size_t>(res) * res * res, 0);
-  entry.active = entry.changed;
-  entry.epochs.assign(entry.changed.size(), 0);
+  entry.marks = Marks(entry.level->resolution());
   local_.push_back(std::move(entry));
   return num_levels() - 1;
 }
@@ -313,15 +310,15 @@ std::vector<std::array<std::int32_t, 2>> OctreeLattice::edges(int l) const {
 }
 
 void OctreeLattice::clear_changes() {
-  for (Local& entry : local_) std::fill(entry.changed.begin(), entry.changed.end(), 0);
-  for (Level& level : levels_) std::fill(level.changed.begin(), level.changed.end(), 0);
+  for (Local& entry : local_) std::fill(entry.marks.changed.begin(), entry.marks.changed.end(), 0);
+  for (Level& level : levels_) std::fill(level.marks.changed.begin(), level.marks.changed.end(), 0);
   any_changed_ = false;
 }
 
 std::size_t OctreeLattice::bytes() const {
   std::size_t total = 0;
   for (const Local& entry : local_)
-    total += entry.level->bytes() + entry.changed.size() + entry.active.size() + 4 * entry.epochs.size();
+    total += entry.level->bytes() + entry.marks.bytes();
   total += static_cast<std::size_t>(cache_key_.size()) * sizeof(double);
   for (const auto& tags : cache_) total += tags.size() * sizeof(Tag);
   for (const Level& level : levels_) {
@@ -330,7 +327,7 @@ std::size_t OctreeLattice::bytes() const {
     for (const Eigen::Matrix3Xd& m : level.disp) total += static_cast<std::size_t>(m.size()) * sizeof(double);
     for (const auto& S : level.steps) total += static_cast<std::size_t>(S.nonZeros()) * (sizeof(double) + sizeof(int));
     total += static_cast<std::size_t>(level.rest.size() + level.delta.size()) * sizeof(double) +
-             level.changed.size() + level.active.size() + 4 * level.epochs.size();
+             level.marks.bytes();
   }
   return total;
 }

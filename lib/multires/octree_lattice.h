@@ -141,22 +141,30 @@ public:
   const Eigen::Matrix3Xd& subdivided_rest(int level, int k) const;
 
 private:
+  /// A level's marks over the cells of its grid (a local level: of its node grid), dense:
+  /// the cells of N_{S,3} since clear_changes(), where its displacement may be non-zero
+  /// (never cleared), and how many marks each cell had (a tag's part is for one count).
+  struct Marks {
+    int resolution = 1;
+    std::vector<std::uint8_t> changed, active;
+    std::vector<std::uint32_t> epochs;
+    explicit Marks(int res = 1);
+    void mark(std::size_t cell) { changed[cell] = active[cell] = 1, ++epochs[cell]; }
+    std::size_t bytes() const { return changed.size() + active.size() + sizeof(std::uint32_t) * epochs.size(); }
+  };
   struct Level {
     std::vector<GridComplex> sub;          // sub[k] = C^k topology; sub[0] the level itself
     std::vector<Eigen::Matrix3Xd> fine;    // fine[k] = C^k(R_l) positions (built on first use)
     std::vector<Eigen::Matrix3Xd> disp;    // disp[k] = C^k(delta_l)
     std::vector<Eigen::SparseMatrix<double, Eigen::RowMajor>> steps;  // small levels: C as matrices
     Eigen::Matrix3Xd rest, delta;
-    std::vector<std::uint8_t> changed;     // dense over the level's whole grid: N_{S,3} marks
-    std::vector<std::uint8_t> active;      // the same, never cleared: where D_l may be non-zero
-    std::vector<std::uint32_t> epochs;     // per cell of the grid: moves that marked it
+    Marks marks;
     std::size_t cut = 0;
     bool moved = false;
   };
-  struct Local {  // a local level and its N_{S,3} marks on its node grid's cells
+  struct Local {  // a local level and its marks on its node grid's cells
     std::unique_ptr<SubdividedLevel> level;
-    std::vector<std::uint8_t> changed, active;
-    std::vector<std::uint32_t> epochs;
+    Marks marks;
   };
   void build_levels(const Eigen::Matrix3Xd& region);
   OctreeMove move_local(int level, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change);
@@ -166,23 +174,22 @@ private:
                             OctreeMove& report);
   void mark_changed(int level, const std::vector<std::int32_t>& ids, OctreeMove& report);
   Eigen::Vector3d displacement(int level, const Location& where, Eigen::Matrix3d* jacobian) const;
-  /// One level's part of F(x) - x and of dF/dx - I, at x with box coordinates t; false
-  /// (and d, J zero) when the level leaves x alone: not moved, or not near x.
-  bool level_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Eigen::Vector3d& d,
-                  Eigen::Matrix3d& J) const;
   /// F(x) - x summed over the moved levels, and whether x lies in a cell where some
   /// level's displacement may be non-zero (if not, F(x) = x exactly).
   bool displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const;
   bool moved(int level) const { return is_local(level) ? local(level).moved() : levels_[level].moved; }
-  /// The level's marks over its grid's cells (of its node grid for a local level): where
-  /// its displacement may be non-zero, and how many moves marked each cell.
-  const std::vector<std::uint8_t>& active(int level) const;
-  const std::vector<std::uint32_t>& epochs(int level) const;
+  const Marks& marks(int level) const {
+    return is_local(level) ? local_[static_cast<std::size_t>(level - num_grid_levels())].marks : levels_[level].marks;
+  }
+  /// Delta_l of grid level l: the octree rules' image of the coarser deformation plus its moves.
+  const Eigen::MatrixXd& deformation(int level) const;
   void size_cache(Eigen::Index vertices) const;
   struct Tag;
   bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag) const;
   bool tagged_local_part(int level, const Eigen::Vector3d& x, Tag& tag) const;
-  /// level_part() through a vertex's tag (`same`: the tag is for x).
+  /// One level's part of F(x) - x and of dF/dx - I, at x with box coordinates t, through
+  /// the vertex's tag (`same`: the tag is for x; a fresh tag computes it from scratch);
+  /// false (d, J zero) when the level leaves x alone: not moved, or not near x.
   bool tagged_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag, Eigen::Vector3d& d,
                    Eigen::Matrix3d& J) const;
 
@@ -190,6 +197,7 @@ private:
   OctreeOptions options_;
   mutable std::vector<Level> levels_;
   std::vector<Local> local_;
+  mutable std::vector<Eigen::MatrixXd> deformation_;  // grid levels' Delta_l since the last move; empty: not yet
   bool any_changed_ = false;
   // The batch apply's tags (section 3.2: "each vertex is tagged with a pointer to the
   // minimal cell ... and its local coordinate in the cell"): per vertex, the input position

@@ -36,8 +36,7 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3
   for (int k = static_cast<int>(level.sub.size()) - 1; k >= 0; --k) {
     const GridComplex& g = level.sub[k];
     const int res = g.resolution;
-    GridIndex c;
-    for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
+    GridIndex c = grid_cell_at(t, res);
     for (int step = 0; step < kMaxWalk; ++step) {
       const std::int32_t cell = g.cell(c[0], c[1], c[2]);
       if (cell < 0) break;
@@ -77,45 +76,21 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
   return d;
 }
 
-const std::vector<std::uint8_t>& OctreeLattice::active(int l) const {
-  return is_local(l) ? local_[static_cast<std::size_t>(l - num_grid_levels())].active : levels_[l].active;
-}
-
-const std::vector<std::uint32_t>& OctreeLattice::epochs(int l) const {
-  return is_local(l) ? local_[static_cast<std::size_t>(l - num_grid_levels())].epochs : levels_[l].epochs;
-}
-
-/// The cell of the dense grid with `res` cells per axis that holds box coordinates t.
-static std::size_t grid_slot(const Eigen::Vector3d& t, int res) {
-  GridIndex c;
-  for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
-  return (static_cast<std::size_t>(c[2]) * res + c[1]) * res + c[0];
-}
-
-bool OctreeLattice::level_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Eigen::Vector3d& d,
-                               Eigen::Matrix3d& J) const {
-  d.setZero();
-  J.setZero();
-  // Outside the cells any move marked, the level's displacement is zero: skip the search.
-  if (!moved(l) || !active(l)[grid_slot(t, resolution(l))]) return false;
-  if (is_local(l)) return local(l).add_displacement(x, d, &J);
-  Location where;
-  if (!locate(l, x, t, where)) return false;
-  d = displacement(l, where, &J);
-  return true;
-}
+/// The slot, in a dense array over a grid with `res` cells per axis, of box coordinates t.
+static std::size_t grid_slot(const Eigen::Vector3d& t, int res) { return dense_cell(grid_cell_at(t, res), res); }
 
 bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag,
                                 Eigen::Vector3d& d, Eigen::Matrix3d& J) const {
   if (!same) tag = Tag{};
-  const std::size_t slot = grid_slot(t, resolution(l));
-  const std::uint32_t epoch = epochs(l)[slot] + 1;
+  const Marks& m = marks(l);
+  const std::size_t slot = grid_slot(t, m.resolution);
+  const std::uint32_t epoch = m.epochs[slot] + 1;
   if (tag.epoch == epoch) {  // nothing moved near the vertex at this level since
     d = tag.d, J = tag.J;
     return tag.inside;
   }
   tag.epoch = epoch;
-  if (!active(l)[slot]) {
+  if (!m.active[slot]) {  // outside the cells any move marked, the level's displacement is zero
     tag.d.setZero(), tag.J.setZero();
     tag.inside = false;
   } else {
@@ -163,7 +138,8 @@ bool OctreeLattice::displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, E
   for (int l = 0; l < num_levels(); ++l) {
     Eigen::Vector3d dl;
     Eigen::Matrix3d Jl;
-    if (!level_part(l, x, t, dl, Jl)) continue;
+    Tag fresh;  // the same computation as the batch apply's, without keeping it
+    if (!moved(l) || !tagged_part(l, x, t, false, fresh, dl, Jl)) continue;
     d += dl;
     if (jacobian) *jacobian += Jl;
     inside = true;
@@ -235,14 +211,10 @@ void OctreeLattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_
   for (Eigen::Index v = 0; v < in_pos.cols(); ++v) {
     const Eigen::Vector3d t = box_.to_local(in_pos.col(v));
     if (!in_unit_cube(t, kInsideTolerance)) continue;
-    auto marked = [&](const std::vector<std::uint8_t>& changed, int res) {
-      GridIndex c;
-      for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(t[a] * res)), 0, res - 1);
-      return changed[(static_cast<std::size_t>(c[2]) * res + c[1]) * res + c[0]] != 0;
-    };
+    auto marked = [&](const std::vector<std::uint8_t>& changed, int res) { return changed[grid_slot(t, res)] != 0; };
     bool any = false;
-    for (const Level& level : levels_) any = any || marked(level.changed, level.sub[0].resolution);
-    for (const Local& entry : local_) any = any || marked(entry.changed, entry.level->resolution());
+    for (const Level& level : levels_) any = any || marked(level.marks.changed, level.marks.resolution);
+    for (const Local& entry : local_) any = any || marked(entry.marks.changed, entry.marks.resolution);
     if (any) ids.push_back(static_cast<std::uint32_t>(v));
   }
 }

@@ -123,9 +123,7 @@ bool SubdividedLevel::locate(const Eigen::Vector3d& x, Tet& where) const {
   const Eigen::Vector3d t = box_.to_local(x);
   for (int k = static_cast<int>(sub_.size()) - 1; k >= 0; --k) {  // the minimal cell: the finest step
     const Buckets& b = buckets_[static_cast<std::size_t>(k)];
-    int i[3];
-    for (int a = 0; a < 3; ++a) i[a] = std::clamp(static_cast<int>(std::floor(t[a] * b.n)), 0, b.n - 1);
-    const std::size_t bucket = (static_cast<std::size_t>(i[2]) * b.n + i[1]) * b.n + i[0];
+    const std::size_t bucket = dense_cell(grid_cell_at(t, b.n), b.n);
     const CellComplex& g = sub_[k];
     for (std::int32_t q = b.offsets[bucket]; q < b.offsets[bucket + 1]; ++q) {
       const std::int32_t c = b.cells[static_cast<std::size_t>(q)];
@@ -171,13 +169,6 @@ Eigen::Vector3d SubdividedLevel::displacement(const Location& where, Eigen::Matr
     *jacobian += D * R.inverse();
   }
   return sum;
-}
-
-bool SubdividedLevel::add_displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const {
-  Tet where;
-  if (!moved_ || !locate(x, where)) return false;
-  d += displacement(where, jacobian);
-  return true;
 }
 
 std::vector<SubdividedLevel::Bounds> SubdividedLevel::move(const std::vector<std::int32_t>& ids,

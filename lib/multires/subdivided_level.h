@@ -61,8 +61,6 @@ public:
   /// level); returns the bounds of the rest cells, at every step, whose points the change
   /// reaches (vertices elsewhere keep their positions).
   std::vector<Bounds> move(const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change);
-  /// F(x) - x of this level (adds to `d`, and to `jacobian`); false when x is in no cell.
-  bool add_displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const;
   /// The weights of this level's points at x (empty when x is in no cell).
   void point_weights(const Eigen::Vector3d& x, std::vector<std::pair<std::int32_t, double>>& out) const;
   /// Each edge of the level once, as point pairs.
