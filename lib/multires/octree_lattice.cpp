@@ -165,7 +165,7 @@ void OctreeLattice::ensure_subdivided(int l) const {
     // A level is subdivided before its first move: there is nothing to subdivide yet.
     level.disp.push_back(Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(level.sub[k].num_points())));
     if (level.sub[0].num_cells() <= options_.whole_level_cells)
-      level.steps.push_back(subdivision_matrix(level.sub[k - 1], level.sub[k], SubdivisionRule::CatmullClark));
+      level.steps.push_back(subdivision_matrix(level.sub[k - 1], level.sub[k].points, SubdivisionRule::CatmullClark));
   }
 }
 

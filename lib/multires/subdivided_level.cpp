@@ -19,14 +19,7 @@ SubdividedLevel::SubdividedLevel(const Parallelepiped& box, int source_level, co
   subdivided_ = static_cast<std::size_t>(std::count(cells.begin(), cells.end(), 1));
   sub_.push_back(locally_subdivided(grid, cells, nodes_));
   // The new points by the octree rules of the source level (cell, face and edge points).
-  std::vector<Eigen::Triplet<double>> t;
-  Stencil stencil;
-  for (std::size_t p = 0; p < nodes_.size(); ++p) {
-    subdivision_stencil(grid, nodes_[p], SubdivisionRule::Octree, stencil);
-    for (const auto& [q, w] : stencil) t.emplace_back(static_cast<int>(p), q, w);
-  }
-  from_source_.resize(static_cast<Eigen::Index>(nodes_.size()), static_cast<Eigen::Index>(grid.num_points()));
-  from_source_.setFromTriplets(t.begin(), t.end());
+  from_source_ = subdivision_matrix(grid, nodes_, SubdivisionRule::Octree);
   fine_.push_back((from_source_ * grid_rest.transpose()).transpose());
   delta_ = Eigen::Matrix3Xd::Zero(3, fine_[0].cols());
   disp_.push_back(delta_);

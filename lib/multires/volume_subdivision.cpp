@@ -186,15 +186,15 @@ Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fi
   return out;
 }
 
-Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision_matrix(const GridComplex& coarse, const GridComplex& fine,
-                                                               SubdivisionRule rule) {
+Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision_matrix(const GridComplex& coarse,
+                                                               const std::vector<GridIndex>& nodes, SubdivisionRule rule) {
   std::vector<Eigen::Triplet<double>> t;
   Stencil stencil;
-  for (std::size_t f = 0; f < fine.num_points(); ++f) {
-    subdivision_stencil(coarse, fine.points[f], rule, stencil);
+  for (std::size_t f = 0; f < nodes.size(); ++f) {
+    subdivision_stencil(coarse, nodes[f], rule, stencil);
     for (const auto& [p, w] : stencil) t.emplace_back(static_cast<int>(f), p, w);
   }
-  Eigen::SparseMatrix<double, Eigen::RowMajor> S(static_cast<Eigen::Index>(fine.num_points()),
+  Eigen::SparseMatrix<double, Eigen::RowMajor> S(static_cast<Eigen::Index>(nodes.size()),
                                                  static_cast<Eigen::Index>(coarse.num_points()));
   S.setFromTriplets(t.begin(), t.end());
   return S;

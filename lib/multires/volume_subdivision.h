@@ -40,9 +40,10 @@ void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, Subdi
 Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
                                 SubdivisionRule rule);
 
-/// The same map as a matrix (fine points x coarse points, weights of a point merged):
+/// The same map as a matrix, for the new points at `nodes` (rows) from the coarse points
+/// (columns), a point's weights merged: with nodes = fine.points,
 /// subdivide_field(coarse, fine, X, rule) = (S * X^T)^T up to rounding.
-Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision_matrix(const GridComplex& coarse, const GridComplex& fine,
-                                                               SubdivisionRule rule);
+Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision_matrix(const GridComplex& coarse,
+                                                               const std::vector<GridIndex>& nodes, SubdivisionRule rule);
 
 }  // namespace ffd

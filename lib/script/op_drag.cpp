@@ -54,15 +54,7 @@ KeyTable<DragStep> drag_keys() {
                   [](auto& s) -> auto& { return s.level; })}};
 }
 
-void DragStep::check(ScriptChecks& checks) const {
-  const int levels = checks.octree_levels(lattice);
-  if (levels < 0) {
-    checks.lattice_of(lattice, pointer + "/lattice");
-    if (level) checks.fail(pointer + "/level", "level is for octree lattices");
-  } else if (level && *level > levels) {
-    checks.fail(pointer + "/level", "lattice '" + lattice + "' has levels 0 to " + std::to_string(levels));
-  }
-}
+void DragStep::check(ScriptChecks& checks) const { checks.check_lattice_level(lattice, level, pointer); }
 
 void DragStep::object_points(const Scene& scene, std::vector<Eigen::Vector3d>& at, std::vector<Eigen::Vector3d>& to) const {
   const std::size_t k = scene.stack.index_of(lattice);

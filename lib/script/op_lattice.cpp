@@ -116,21 +116,26 @@ void LatticeStep::check(ScriptChecks& checks) const {
   checks.lattices[name] = lattice;
 }
 
+/// The box of kind `fit` around the columns `ids` of `points` (all when empty).
+Parallelepiped fit_box(BoxSpec::Fit fit, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                       const std::vector<std::uint32_t>& ids, double padding) {
+  switch (fit) {
+    case BoxSpec::Fit::Obb:
+      return fit_principal_box(points, ids, padding);
+    case BoxSpec::Fit::MinVolume:
+      return fit_min_volume_box(points, ids, padding);
+    case BoxSpec::Fit::Aabb:
+      break;
+  }
+  return fit_aabb(points, ids, padding);
+}
+
 Parallelepiped make_box(const Scene& scene, const BoxSpec& box) {
   if (box.kind == BoxSpec::Kind::MinMax) return Parallelepiped::from_min_max(box.min, box.max);
   if (box.kind == BoxSpec::Kind::OriginAxes) return Parallelepiped(box.origin, box.axes);
   std::vector<std::uint32_t> ids;
   if (box.select) ids = select_vertices(*box.select, scene.mesh.positions());
-  const auto positions = scene.mesh.positions();
-  switch (box.fit) {
-    case BoxSpec::Fit::Obb:
-      return fit_principal_box(positions, ids, box.padding);
-    case BoxSpec::Fit::MinVolume:
-      return fit_min_volume_box(positions, ids, box.padding);
-    case BoxSpec::Fit::Aabb:
-      break;
-  }
-  return fit_aabb(positions, ids, box.padding);
+  return fit_box(box.fit, scene.mesh.positions(), ids, box.padding);
 }
 
 nlohmann::json vec_json(const Eigen::Vector3d& v) { return write_value(v); }
@@ -169,16 +174,7 @@ Eigen::Matrix3Xd octree_region(Scene& scene, const BoxSpec& box, const std::opti
 }
 
 Parallelepiped fit_octree_box(const Scene& scene, const BoxSpec& box, const Eigen::Matrix3Xd& region) {
-  if (box.kind != BoxSpec::Kind::Fit) return make_box(scene, box);
-  switch (box.fit) {
-    case BoxSpec::Fit::Obb:
-      return fit_principal_box(region, {}, box.padding);
-    case BoxSpec::Fit::MinVolume:
-      return fit_min_volume_box(region, {}, box.padding);
-    case BoxSpec::Fit::Aabb:
-      break;
-  }
-  return fit_aabb(region, {}, box.padding);
+  return box.kind == BoxSpec::Kind::Fit ? fit_box(box.fit, region, {}, box.padding) : make_box(scene, box);
 }
 
 void LatticeStep::run_octree(Scene& scene, StepContext& ctx) const {

@@ -63,8 +63,6 @@ KeyTable<MoveStep> move_keys() {
 }
 
 void MoveStep::check_octree(ScriptChecks& checks, int levels) const {
-  if (level && *level > levels)
-    checks.fail(pointer + "/level", "lattice '" + lattice + "' has levels 0 to " + std::to_string(levels));
   // A local level's nodes are at twice its source's resolution; the run checks them.
   const int top = 1 << std::min(level.value_or(levels), checks.octrees.at(lattice) + 1);
   for (std::size_t i = 0; i < points.size(); ++i)
@@ -76,8 +74,8 @@ void MoveStep::check_octree(ScriptChecks& checks, int levels) const {
 }
 
 void MoveStep::check(ScriptChecks& checks) const {
-  if (const int levels = checks.octree_levels(lattice); levels >= 0) return check_octree(checks, levels);
-  if (level) checks.fail(pointer + "/level", "level is for octree lattices");
+  if (const int levels = checks.check_lattice_level(lattice, level, pointer); levels >= 0)
+    return check_octree(checks, levels);
   const LatticeSpec& shape = checks.lattice_of(lattice, pointer + "/lattice");
   for (std::size_t i = 0; i < points.size(); ++i)
     for (int a = 0; a < 3; ++a) {

@@ -58,11 +58,7 @@ void SaveStep::check(ScriptChecks& checks) const {
     if (level) checks.fail(pointer + "/level", "level goes with lattice");
     return;
   }
-  const int levels = checks.octree_levels(*lattice);
-  if (levels < 0) checks.lattice_of(*lattice, pointer + "/lattice");
-  if (levels < 0 && level) checks.fail(pointer + "/level", "level is for octree lattices");
-  if (level && *level > levels)
-    checks.fail(pointer + "/level", "lattice '" + *lattice + "' has levels 0 to " + std::to_string(levels));
+  checks.check_lattice_level(*lattice, level, pointer);
   if (mesh_format(path) != MeshFormat::Obj)
     checks.fail(pointer + "/path", "a control net is written as OBJ (points and l lines): give the extension .obj");
   if (colors_by_level) checks.fail(pointer + "/colors", "colors are for meshes, not control nets");

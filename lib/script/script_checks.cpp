@@ -45,6 +45,18 @@ int ScriptChecks::octree_levels(const std::string& name) const {
   return it->second + (local == octree_local_levels.end() ? 0 : local->second);
 }
 
+int ScriptChecks::check_lattice_level(const std::string& name, const std::optional<int>& level,
+                                      const std::string& pointer) const {
+  const int levels = octree_levels(name);
+  if (levels < 0) {
+    lattice_of(name, pointer + "/lattice");
+    if (level) fail(pointer + "/level", "level is for octree lattices");
+  } else if (level && *level > levels) {
+    fail(pointer + "/level", "lattice '" + name + "' has levels 0 to " + std::to_string(levels));
+  }
+  return levels;
+}
+
 void ScriptChecks::check_new_lattice(const std::string& name, const std::string& pointer) const {
   if (lattices.count(name) || octrees.count(name)) fail(pointer, "a lattice named '" + name + "' already exists");
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -29,6 +30,11 @@ public:
   /// The highest level index of the octree lattice called `name` (local levels included),
   /// or -1 when it is not one (a tensor-product lattice, or none: then lattice_of says so).
   int octree_levels(const std::string& name) const;
+  /// A step's lattice `name` and its "level": fails at pointer + "/lattice" when no lattice
+  /// is called so, and at pointer + "/level" when a level is given for a B-spline or
+  /// Bernstein lattice or lies beyond an octree lattice's. Returns the octree lattice's
+  /// highest level, or -1 for a tensor-product lattice.
+  int check_lattice_level(const std::string& name, const std::optional<int>& level, const std::string& pointer) const;
   /// Fails at `pointer` when a lattice called `name` exists already.
   void check_new_lattice(const std::string& name, const std::string& pointer) const;
 
