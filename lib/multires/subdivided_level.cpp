@@ -166,21 +166,27 @@ Eigen::Vector3d SubdividedLevel::displacement(const Location& where, Eigen::Matr
 
 std::vector<SubdividedLevel::Bounds> SubdividedLevel::move(const std::vector<std::int32_t>& ids,
                                                             const Eigen::Matrix3Xd& change) {
-  Eigen::Matrix3Xd image = Eigen::Matrix3Xd::Zero(3, delta_.cols());
+  std::vector<std::uint8_t> reach(static_cast<std::size_t>(delta_.cols()), 0);  // points the change reaches
   for (std::size_t i = 0; i < ids.size(); ++i) {
     delta_.col(ids[i]) += change.col(static_cast<Eigen::Index>(i));
-    image.col(ids[i]) = Eigen::Vector3d::Ones();  // marks the points the change reaches
+    reach[static_cast<std::size_t>(ids[i])] = 1;
   }
   disp_[0] = delta_;
   for (std::size_t k = 1; k < disp_.size(); ++k) disp_[k] = (steps_[k - 1] * disp_[k - 1].transpose()).transpose();
   moved_ = true;
   std::vector<Bounds> reached;
   for (std::size_t k = 0; k < sub_.size(); ++k) {
-    // The reach through the steps' stencils (non-negative weights: no cancellation).
-    if (k > 0) image = (steps_[k - 1].cwiseAbs() * image.transpose()).transpose();
+    if (k > 0) {  // a new point is reached when its stencil holds a reached point
+      const auto& S = steps_[k - 1];
+      std::vector<std::uint8_t> next(static_cast<std::size_t>(S.rows()), 0);
+      for (Eigen::Index r = 0; r < S.rows(); ++r)
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(S, r); it && !next[static_cast<std::size_t>(r)]; ++it)
+          next[static_cast<std::size_t>(r)] = reach[static_cast<std::size_t>(it.col())];
+      reach = std::move(next);
+    }
     for (std::size_t c = 0; c < sub_[k].num_cells(); ++c)
       for (std::int32_t p : cell_points_[k][c])
-        if (image(0, p) != 0) {
+        if (reach[static_cast<std::size_t>(p)]) {
           reached.push_back(cell_bounds(static_cast<int>(k), c));
           break;
         }
