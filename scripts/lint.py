@@ -5,7 +5,7 @@ Prints one line per violation, `file:line: what`, and exits 1 if there is any.
 
 Rules:
   nlohmann-include  no #include of <nlohmann/...> in lib/ outside lib/script: algorithms
-                    take options structs and never see JSON (DESIGN.md, "Typed steps").
+                    take options structs and never see JSON (docs/architecture.md, "Typed steps").
                     apps/ and tests/ may use JSON.
   json-pointer      no JSON-pointer string literal ("/support", "/k": a "/" and then a
                     lowercase letter or underscore) in the code of the algorithm folders

@@ -1,5 +1,5 @@
 // The items of a batch: which meshes, in which order, written where, and which of them
-// this shard takes (DESIGN.md "Scale-out").
+// this shard takes (docs/architecture.md, "Batches").
 #pragma once
 
 #include <cstddef>

@@ -1,5 +1,5 @@
 // The files a run writes: staged in their targets' folders (common/atomic_file.h) and put
-// in place only when the whole run succeeded (DESIGN.md: written whole or not at all).
+// in place only when the whole run succeeded (docs/architecture.md, "Staged output").
 #pragma once
 
 #include <string>
