@@ -30,20 +30,11 @@ using test::read_file;
 using test::run_tool;
 using test::temp_folder;
 using test::write_file;
-
-// stderr holds exactly one line, "ffdtool: error: ...", mentioning every part.
-void expect_one_error_line(const std::string& err, const std::vector<std::string>& parts) {
-  EXPECT_EQ(err.rfind("ffdtool: error: ", 0), 0u) << "stderr: " << err;
-  ASSERT_FALSE(err.empty());
-  EXPECT_EQ(err.back(), '\n') << err;
-  EXPECT_EQ(err.find('\n'), err.size() - 1) << "more than one line on stderr:\n" << err;
-  for (const std::string& part : parts)
-    EXPECT_NE(err.find(part), std::string::npos) << "stderr does not mention '" << part << "': " << err;
-}
+using test::expect_one_error_line;
 
 // ---------------------------------------------------------------------------------------
 // An independent evaluation of the demo script (test_data/demo.json) on the bunny: the
-// box fitted as DESIGN.md says, the lattice points it selects and moves, and the cubic
+// box fitted as docs/script-reference.md says, the lattice points it selects and moves, and the cubic
 // B-spline displacement summed directly from the cardinal basis.
 
 double cubic_bspline(double s) {
@@ -171,7 +162,7 @@ TEST(CliRun, DemoOnTheBunnyMatchesTheExpectedMesh) {
   check_demo_output(data("expected/bunny_demo.obj"), 2);
   check_demo_output(dir + "/bunny_stretched.obj", 1);
 
-  // stats.json has what DESIGN.md lists.
+  // stats.json has what docs/architecture.md ("Stats") lists.
   const json stats = json::parse(read_file(dir + "/stats.json"));
   for (const char* key : {"tool", "version", "input", "steps", "totals", "peak_memory_bytes", "output", "warnings"})
     EXPECT_TRUE(stats.contains(key)) << key;

@@ -30,6 +30,7 @@ using test::run_tool;
 using test::temp_folder;
 using test::without_measurements;
 using test::write_file;
+using test::expect_one_error_line;
 
 // A mesh of the shared set beside the repository, or else the same file from Debian's
 // libcgal-demo (../shared/meshes are byte-for-byte copies of its data/meshes/), extracted
@@ -37,14 +38,7 @@ using test::write_file;
 std::string shared_mesh(const std::string& name) {
   const fs::path p = (fs::path(FFD_SOURCE_DIR) / ".." / "shared" / "meshes" / name).lexically_normal();
   if (fs::exists(p)) return p.string();
-  const std::string tarball = "/usr/share/doc/libcgal-dev/data.tar.gz";
-  if (!fs::exists(tarball)) return {};
-  static const std::string dir = temp_folder("multires_cgal_meshes");
-  const std::string out = dir + "/data/meshes/" + name;
-  if (!fs::exists(out) &&
-      std::system(("tar -xzf " + tarball + " -C " + quoted(dir) + " data/meshes/" + name).c_str()) != 0)
-    return {};
-  return fs::exists(out) ? out : std::string();
+  return test::cgal_mesh(name);
 }
 
 #define SHARED_MESH_OR_SKIP(var, name)                                          \
@@ -80,16 +74,6 @@ ToolRun run_script(const std::string& name, const std::string& mesh, const std::
   const std::string text = read_file(r.dir + "/stats.json");
   if (!text.empty()) r.stats = json::parse(text);
   return r;
-}
-
-// stderr holds exactly one line, "ffdtool: error: ...", mentioning every part.
-void expect_one_error_line(const std::string& err, const std::vector<std::string>& parts) {
-  EXPECT_EQ(err.rfind("ffdtool: error: ", 0), 0u) << "stderr: " << err;
-  ASSERT_FALSE(err.empty());
-  EXPECT_EQ(err.back(), '\n') << err;
-  EXPECT_EQ(err.find('\n'), err.size() - 1) << "more than one line on stderr:\n" << err;
-  for (const std::string& part : parts)
-    EXPECT_NE(err.find(part), std::string::npos) << "stderr does not mention '" << part << "': " << err;
 }
 
 // A control net as save writes it: "v x y z" points, "l a b" edges (1-based), "#" comments.

@@ -47,7 +47,7 @@ struct BunnyLattice {
 void move_one(OctreeLattice& lattice, int level, const GridIndex& node, const Eigen::Vector3d& by) {
   const std::int32_t id = lattice.point_index(level, node);
   ASSERT_GE(id, 0);
-  lattice.move_points(level, {id}, {Eigen::Vector3d(lattice.points(level).col(id) + by)});
+  lattice.move_level_points(level, {id}, {Eigen::Vector3d(lattice.points(level).col(id) + by)});
 }
 
 TEST(VolumeSubdivision, StencilsAreAffineCombinations) {
@@ -301,7 +301,7 @@ TEST(OctreeLattice, ChangingLevelDoesNotMoveTheModel) {
   EXPECT_LT(worst, 1e-9);
   // Moving level 2 adds its own field: a point of level 2 moves the model near it.
   const std::int32_t id = lattice.point_index(2, lattice.complex(2).points[lattice.complex(2).num_points() / 2]);
-  lattice.move_points(2, {id}, {Eigen::Vector3d(lattice.points(2).col(id) + Eigen::Vector3d(0.03, 0, 0))});
+  lattice.move_level_points(2, {id}, {Eigen::Vector3d(lattice.points(2).col(id) + Eigen::Vector3d(0.03, 0, 0))});
   EXPECT_NEAR((lattice.points(2).col(id) - shown.col(id)).norm(), 0.03, 1e-12);
 }
 
@@ -323,7 +323,7 @@ TEST(OctreeLattice, PointWeightsPredictTheDeformation) {
   const Eigen::Matrix3Xd shown = lattice.points(2);
   for (const auto& [p, wp] : w) ids.push_back(p), targets.push_back(shown.col(p) + d * (p % 3));
   for (const auto& [p, wp] : w) predicted += wp * d * (p % 3);
-  lattice.move_points(2, ids, targets);
+  lattice.move_level_points(2, ids, targets);
   EXPECT_LT((lattice.apply(x, nullptr) - predicted).norm(), 1e-12);
 }
 

@@ -223,4 +223,25 @@ void add_face(PolygonSoup& soup, const std::vector<std::uint32_t>& vertices, con
   soup.elements.close(ElementKind::Polygon, group);
 }
 
+// stderr holds exactly one line, "ffdtool: error: ...", mentioning every part.
+void expect_one_error_line(const std::string& err, const std::vector<std::string>& parts) {
+  EXPECT_EQ(err.rfind("ffdtool: error: ", 0), 0u) << "stderr: " << err;
+  ASSERT_FALSE(err.empty());
+  EXPECT_EQ(err.back(), '\n') << err;
+  EXPECT_EQ(err.find('\n'), err.size() - 1) << "more than one line on stderr:\n" << err;
+  for (const std::string& part : parts)
+    EXPECT_NE(err.find(part), std::string::npos) << "stderr does not mention '" << part << "': " << err;
+}
+
+std::string cgal_mesh(const std::string& name) {
+  const std::string tarball = "/usr/share/doc/libcgal-dev/data.tar.gz";
+  if (!fs::exists(tarball)) return {};
+  static const std::string dir = temp_folder("cgal_meshes");
+  const std::string out = dir + "/data/meshes/" + name;
+  if (!fs::exists(out) &&
+      std::system(("tar -xzf " + tarball + " -C " + quoted(dir) + " data/meshes/" + name).c_str()) != 0)
+    return {};
+  return fs::exists(out) ? out : std::string();
+}
+
 }  // namespace ffd::test

@@ -51,6 +51,13 @@ void write_file(const std::string& path, const std::string& text);
 void expect_input_error(const std::function<void()>& fn, const std::string& prefix,
                         const std::vector<std::string>& parts = {});
 
+/// stderr holds exactly one line, "ffdtool: error: ...", mentioning every part.
+void expect_one_error_line(const std::string& err, const std::vector<std::string>& parts);
+
+/// A mesh of CGAL's data set (Debian's libcgal-demo, which scripts/setup.sh installs), by
+/// its name in data/meshes/ ("elephant.off"), extracted once; "" when it is not there.
+std::string cgal_mesh(const std::string& name);
+
 /// The path in single quotes, for run_tool's shell command line.
 std::string quoted(const std::string& path);
 /// The names of the entries of a folder.

@@ -11,7 +11,7 @@
 //   level: the first move (it includes the one-time Catmull-Clark subdivision of the
 //   level's rest lattice) alone, then the median of the next moves, each of another point
 //   of the level (the point nearest a random mesh vertex) by 1% of the box's largest
-//   extent. A move is move_points + changed_points + batch apply (positions and normals) of
+//   extent. A move is move_level_points + changed_points + batch apply (positions and normals) of
 //   those vertices + clear_changes. Baseline: BSplineLattice(box, {8,8,8}, 3), move_point
 //   of a random interior point, then the same changed_points + apply + clear_changes.
 // - lattice memory: OctreeLattice::bytes() per mesh after the moves, per lattice cell and
@@ -219,7 +219,7 @@ json level_row(OctreeLattice& lattice, int level, Scene& s, std::size_t count, s
     const Eigen::Vector3d target = lattice.points(level).col(id) + random_offset(rng, length);
     OctreeMove report;
     std::size_t relocated = 0;
-    const MoveTime t = timed_move(lattice, s, [&] { report = lattice.move_points(level, {id}, {target}); }, relocated);
+    const MoveTime t = timed_move(lattice, s, [&] { report = lattice.move_level_points(level, {id}, {target}); }, relocated);
     (m == 0 ? first : rest).add(t, relocated, report);
   }
   const double ms = median(rest.ms);
@@ -364,7 +364,7 @@ void print_moves(const json& moves) {
 }  // namespace
 
 /// The small-level threshold (OctreeOptions::whole_level_cells): median ms of
-/// move_points at levels 2..5 of `mesh` when every level keeps its steps as matrices and
+/// move_level_points at levels 2..5 of `mesh` when every level keeps its steps as matrices and
 /// when every move re-subdivides N_{S,3}, and the memory each way adds to the lattice.
 json threshold_rows(const Mesh& mesh, const char* name, std::size_t count) {
   const Eigen::Matrix3Xd x = mesh.positions();
@@ -385,7 +385,7 @@ json threshold_rows(const Mesh& mesh, const char* name, std::size_t count) {
             std::uniform_int_distribution<std::size_t>(0, lattice.num_points(level) - 1)(rng));
         const Eigen::Vector3d target = lattice.points(level).col(id) + random_offset(rng, 0.01 * box.extents().maxCoeff());
         Stopwatch clock;
-        lattice.move_points(level, {id}, {target});
+        lattice.move_level_points(level, {id}, {target});
         if (m > 0) ms.push_back(clock.ms());
         lattice.clear_changes();
       }

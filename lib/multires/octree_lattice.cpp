@@ -136,7 +136,7 @@ const Eigen::MatrixXd& OctreeLattice::deformation(int l) const {
   return delta;
 }
 
-OctreeMove OctreeLattice::move_points(int l, const std::vector<std::int32_t>& ids,
+OctreeMove OctreeLattice::move_level_points(int l, const std::vector<std::int32_t>& ids,
                                       const std::vector<Eigen::Vector3d>& targets) {
   const Eigen::Matrix3Xd shown = points(l);
   Eigen::Matrix3Xd change(3, static_cast<Eigen::Index>(ids.size()));

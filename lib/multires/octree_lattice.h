@@ -41,8 +41,8 @@
 
 #include "multires/grid_complex.h"
 #include "multires/subdivided_level.h"
+#include "warp/deformer.h"
 #include "warp/parallelepiped.h"
-#include "warp/warp.h"
 
 namespace ffd {
 
@@ -65,7 +65,11 @@ struct OctreeMove {
   std::size_t cells_marked = 0;      // cells of N_{S,3}, whose vertices are relocated
 };
 
-class OctreeLattice : public Warp {
+/// "the corners of level 2's cells, grid nodes [i, j, k] in [0, 4]", for messages
+/// (`resolution`: 2^level, or a local level's).
+std::string octree_points_text(int level, int resolution);
+
+class OctreeLattice : public Deformer {
 public:
   /// Builds the levels on `box` around the region points (columns of `region`, in the
   /// warp's input space). Region points outside the box are ignored.
@@ -74,7 +78,7 @@ public:
   const Parallelepiped& box() const { return box_; }
   const OctreeOptions& options() const { return options_; }
   /// The octree levels 0..options().levels, then one per local subdivision.
-  int num_levels() const { return static_cast<int>(levels_.size() + local_.size()); }
+  int num_levels() const override { return static_cast<int>(levels_.size() + local_.size()); }
   int num_grid_levels() const { return static_cast<int>(levels_.size()); }
   /// Whether `level` was made by local subdivision (subdivide()).
   bool is_local(int level) const { return level >= num_grid_levels(); }
@@ -83,7 +87,7 @@ public:
   const GridComplex& complex(int level) const { return levels_[level].sub[0]; }
   /// Cells of refine(level - 1) cut because they hold no region vertex (0 at level 0).
   std::size_t cut_cells(int level) const { return is_local(level) ? 0 : levels_[level].cut; }
-  std::size_t num_points(int level) const;
+  std::size_t num_points(int level) const override;
   std::size_t num_cells(int level) const;
   /// Grid nodes per axis of the level's point indices, minus one (2^level; twice the
   /// source's for a local level).
@@ -99,7 +103,8 @@ public:
     return is_local(level) ? local(level).rest() : levels_[level].rest;
   }
   /// The level's points as shown and moved: rest + O(coarser deformation) + own moves.
-  Eigen::Matrix3Xd points(int level) const;
+  Eigen::Matrix3Xd points(int level) const override;
+  using Deformer::points;
   /// Index of the level's point at grid node `node`, or -1.
   std::int32_t point_index(int level, const GridIndex& node) const {
     return is_local(level) ? local(level).point_index(node) : complex(level).point(node);
@@ -107,10 +112,28 @@ public:
 
   /// Moves the level's points `ids` to `targets` (shown positions) and brings the
   /// subdivided displacement fields up to date (N_{S,3}), marking N_{S,3} as changed.
-  OctreeMove move_points(int level, const std::vector<std::int32_t>& ids, const std::vector<Eigen::Vector3d>& targets);
+  OctreeMove move_level_points(int level, const std::vector<std::int32_t>& ids,
+                               const std::vector<Eigen::Vector3d>& targets);
   /// The weights at x of the level's points: F(x) changes by sum w_j d_j when point j's
   /// shown position moves by d_j. Empty when x lies in no cell of the level.
   void point_weights(int level, const Eigen::Vector3d& x, std::vector<std::pair<std::int32_t, double>>& out) const;
+  /// "the corners of level 2's cells, grid nodes [i, j, k] in [0, 4]", for messages.
+  std::string movable_text(int level) const override;
+
+  // Deformer: ids are the level's point indices; every point is movable.
+  std::string kind() const override { return "octree"; }
+  bool has_levels() const override { return true; }
+  std::optional<std::size_t> find_point(int level, const PointIndex& index) const override;
+  std::string missing_point(int level, const PointIndex& index) const override;
+  PointIndex point_index(int level, std::size_t id) const override;
+  /// move_level_points; the report counts cells_subdivided and cells_relocated.
+  MoveReport move_points(int level, const std::vector<std::size_t>& ids,
+                         const std::vector<Eigen::Vector3d>& targets) override;
+  /// point_weights, which are the weights of the movable points (all of them).
+  void movable_weights(int level, const Eigen::Vector3d& x, PointWeights& out) const override;
+  std::vector<std::array<std::uint32_t, 2>> net_edges(int level) const override;
+  double scale() const override { return box_.extents().norm(); }
+
   /// Bytes held by the levels and their Catmull-Clark subdivisions.
   std::size_t bytes() const;
 

@@ -1,18 +1,17 @@
-// A lattice's control net as an overlay: its points where they are now (rest + moved)
-// and the edges between neighbours along each axis, in the lattice's input space.
+// A deformer's control net as an overlay: one level's points where they are now (rest +
+// moved) and the net's edges (a lattice's neighbours along each axis, an octree level's
+// cell edges), in the deformer's input space.
 #pragma once
 
-#include "multires/octree_lattice.h"
 #include "render/render.h"
-#include "warp/lattice.h"
+#include "warp/deformer.h"
 
 namespace ffd {
 
-/// Every control point of `lattice` (B-spline border points included) and its axis edges.
-Overlay control_net(const Lattice& lattice);
+/// Every point of `level` of `deformer` (a B-spline's border points included) and its edges.
+Overlay control_net(const Deformer& deformer, int level);
 
-/// The points of one level of an octree lattice as shown (rest + deformation) and the
-/// edges of its cells (each once), in the lattice's input space.
-Overlay control_net(const OctreeLattice& lattice, int level);
+/// The net of the deformer's default level (the finest).
+inline Overlay control_net(const Deformer& deformer) { return control_net(deformer, deformer.default_level()); }
 
 }  // namespace ffd

@@ -13,17 +13,14 @@ void report_update(Scene& scene, const WarpStack::Update& update, StepContext& c
                              "the surface self-intersects there");
 }
 
-void warn_if_tearing(Scene& scene, const Lattice& lattice, const std::string& name, const StepContext& ctx) {
-  if (lattice.boundary_continuity() >= 0) return;
+void warn_if_tearing(Scene& scene, const Deformer& deformer, const std::string& name, const StepContext& ctx) {
+  if (!deformer.tears()) return;
   const std::size_t k = scene.stack.index_of(name);
   std::size_t outside = 0;
   for (std::uint32_t v = 0; v < scene.mesh.num_vertices(); ++v)
-    if (!Lattice::inside(lattice.box().to_local(scene.stack.input_position(scene.mesh, k, v)))) ++outside;
+    if (!deformer.in_support(scene.stack.input_position(scene.mesh, k, v))) ++outside;
   if (outside == 0) return;
-  scene.warnings.push_back(ctx.pointer + ": lattice '" + name + "' moved points on its box's faces while " +
-                           format_count(outside) +
-                           " vertices lie outside the box: a Bernstein lattice tears the mesh there "
-                           "(use basis \"bspline\", or move only interior points)");
+  scene.warnings.push_back(ctx.pointer + ": " + deformer.tearing_warning(name, outside));
 }
 
 }  // namespace ffd

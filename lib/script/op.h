@@ -26,11 +26,13 @@ namespace ffd {
 class OpInfo;
 
 /// A file a step will write: its path relative to the output folder, the key that names
-/// it (for messages), and whether it is a picture (a PNG) rather than a mesh.
+/// it (for messages), and whether it is a picture (a PNG) or a matrix (Matrix Market,
+/// .mtx) rather than a mesh.
 struct OutputFile {
   std::string key;   // "/path", "/save"
   std::string path;  // "sub/frame_3.obj"
   bool picture = false;
+  bool matrix = false;
 };
 
 /// A parsed step: the op's typed options, checked and defaulted at load time. Its run

@@ -3,7 +3,6 @@
 #include <cstdio>
 
 #include "common/numbers.h"
-#include "multires/octree_drag.h"
 #include "script/lattice_reports.h"
 #include "script/op.h"
 #include "warp/drag.h"
@@ -75,21 +74,15 @@ void DragStep::object_points(const Scene& scene, std::vector<Eigen::Vector3d>& a
 }
 
 void DragStep::run(Scene& scene, StepContext& ctx) const {
-  OctreeLattice* octree = scene.octree(lattice);
-  Lattice* tensor = octree ? nullptr : &scene.lattice(lattice);
+  Deformer& target = scene.deformer(lattice);
+  const int l = level.value_or(target.default_level());
   std::vector<Eigen::Vector3d> at, to;
   object_points(scene, at, to);
-  DragResult result;
-  if (octree) {
-    const int l = level.value_or(octree->num_levels() - 1);
-    OctreeMove move;
-    result = drag(*octree, l, at, to, &move);
-    ctx.stats["level"] = l;
-    ctx.stats["cells_subdivided"] = move.cells_subdivided;
-  } else {
-    result = drag(*tensor, at, to);
-    warn_if_tearing(scene, *tensor, lattice, ctx);
-  }
+  MoveReport moved;
+  const DragResult result = drag(target, l, at, to, &moved);
+  if (target.has_levels()) ctx.stats["level"] = l;
+  for (const MoveReport::Count& count : moved.counts) ctx.stats[count.key] = count.value;
+  warn_if_tearing(scene, target, lattice, ctx);
   const WarpStack::Update update = scene.stack.update(scene.mesh, lattice);
   ctx.stats["lattice"] = lattice;
   ctx.stats["object_points"] = at.size();
@@ -98,7 +91,7 @@ void DragStep::run(Scene& scene, StepContext& ctx) const {
   ctx.stats["residual_rms"] = result.rms_residual;
   ctx.stats["unreachable"] = result.unreachable;
   report_update(scene, update, ctx);
-  report(scene, (octree ? octree->box() : tensor->box()).extents().norm(), result, ctx);
+  report(scene, target.scale(), result, ctx);
   ctx.summary += format_count(update.moved) + " vertices moved";
 }
 

@@ -30,9 +30,9 @@ struct LatticeStep final : Step {
             cells.value_or(Index3{0, 0, 0})};
   }
   void check(ScriptChecks& checks) const override;
-  void check_octree(ScriptChecks& checks) const;
+  void check_octree_options(ScriptChecks& checks) const;
   void run(Scene& scene, StepContext& ctx) const override;
-  void run_octree(Scene& scene, StepContext& ctx) const;
+  void make_octree(Scene& scene, StepContext& ctx) const;
 };
 
 KeyTable<LatticeStep> lattice_keys() {
@@ -77,24 +77,32 @@ KeyTable<LatticeStep> lattice_keys() {
   }};
 }
 
-void LatticeStep::check_octree(ScriptChecks& checks) const {
+void LatticeStep::check_octree_options(ScriptChecks& checks) const {
   if (cells) checks.fail(pointer + "/cells", "an octree lattice takes levels, not cells");
   // The finest subdivided lattice has 2^(levels + cc_steps) cells per axis at most.
   if (octree.levels + octree.cc_steps > 8)
     checks.fail(pointer + "/cc_steps", "levels + cc_steps is at most 8 (2^8 subdivided cells per axis); use fewer "
                                         "Catmull-Clark steps on a fine level");
   if (enclose) {
-    if (!checks.lattices.count(*enclose) && checks.octree_levels(*enclose) < 0)
+    if (!checks.deformers.count(*enclose))
       checks.fail(pointer + "/enclose", "no lattice named '" + *enclose + "' is created before this step");
     if (box.kind != BoxSpec::Kind::Fit)
       checks.fail(pointer + "/box", "enclose fits the box around the mesh and the lattice; give {\"fit\": ...}");
   }
-  checks.octrees[name] = octree.levels;
+  DeformerShape shape{"octree", true, octree.levels, octree.levels, nullptr};
+  // A local level's nodes are at twice its source's resolution; the run checks them.
+  shape.unmovable = [grid = octree.levels](int level, const Index3& ijk) -> std::optional<std::string> {
+    const int top = 1 << std::min(level, grid + 1);
+    for (int a = 0; a < 3; ++a)
+      if (ijk[a] < 0 || ijk[a] > top) return octree_points_text(level, top);
+    return std::nullopt;
+  };
+  checks.deformers[name] = shape;
 }
 
 void LatticeStep::check(ScriptChecks& checks) const {
   checks.check_new_lattice(name, pointer + "/name");
-  if (basis == Basis::Octree) return check_octree(checks);
+  if (basis == Basis::Octree) return check_octree_options(checks);
   if (shrink) checks.fail(pointer + "/shrink", "shrink is for octree lattices");
   if (enclose) checks.fail(pointer + "/enclose", "enclose is for octree lattices");
   if (!cells) checks.fail(pointer + "/cells", "a " + name_of(kBases, basis) + " lattice needs cells [l, m, n]");
@@ -113,7 +121,16 @@ void LatticeStep::check(ScriptChecks& checks) const {
     points *= lattice.cells[a] + (bspline ? lattice.degree : 1);
   }
   if (points > 16.0 * 1024 * 1024) checks.fail(pointer + "/cells", "the lattice would have more than 16M control points");
-  checks.lattices[name] = lattice;
+  DeformerShape shape{name_of(kBases, basis), false, 0, -1, nullptr};
+  shape.unmovable = [lattice](int, const Index3& ijk) -> std::optional<std::string> {
+    for (int a = 0; a < 3; ++a) {
+      int lo, hi;
+      movable_span(lattice, a, lo, hi);
+      if (ijk[a] < lo || ijk[a] > hi) return movable_text(lattice);
+    }
+    return std::nullopt;
+  };
+  checks.deformers[name] = shape;
 }
 
 /// The box of kind `fit` around the columns `ids` of `points` (all when empty).
@@ -146,7 +163,7 @@ nlohmann::json box_json(const Parallelepiped& box) {
 }
 
 /// The points an octree lattice is fitted and cut around: the region's vertices, and with
-/// `enclose` the enclosed lattice's control points (every level's) where the mesh sees them.
+/// `enclose` the enclosed deformer's control points (every level's) where the mesh sees them.
 Eigen::Matrix3Xd octree_region(Scene& scene, const BoxSpec& box, const std::optional<std::string>& enclose) {
   const auto positions = scene.mesh.positions();
   std::vector<std::uint32_t> ids;
@@ -157,15 +174,10 @@ Eigen::Matrix3Xd octree_region(Scene& scene, const BoxSpec& box, const std::opti
   for (std::uint32_t v : ids) points.push_back(positions.col(v));
   if (enclose) {
     const std::size_t k = scene.stack.index_of(*enclose);
-    if (const OctreeLattice* octree = scene.octree(*enclose)) {
-      for (int l = 0; l < octree->num_levels(); ++l) {
-        const Eigen::Matrix3Xd level = octree->points(l);
-        for (Eigen::Index p = 0; p < level.cols(); ++p) points.push_back(scene.stack.carry_from(k, level.col(p)));
-      }
-    } else {
-      const Lattice& lattice = scene.lattice(*enclose);
-      for (std::size_t f = 0; f < lattice.num_points(); ++f)
-        points.push_back(scene.stack.carry_from(k, lattice.point(lattice.index(f))));
+    const Deformer& enclosed = scene.deformer(*enclose);
+    for (int l = 0; l < enclosed.num_levels(); ++l) {
+      const Eigen::Matrix3Xd level = enclosed.points(l);
+      for (Eigen::Index p = 0; p < level.cols(); ++p) points.push_back(scene.stack.carry_from(k, level.col(p)));
     }
   }
   Eigen::Matrix3Xd region(3, static_cast<Eigen::Index>(points.size()));
@@ -177,7 +189,7 @@ Parallelepiped fit_octree_box(const Scene& scene, const BoxSpec& box, const Eige
   return box.kind == BoxSpec::Kind::Fit ? fit_box(box.fit, region, {}, box.padding) : make_box(scene, box);
 }
 
-void LatticeStep::run_octree(Scene& scene, StepContext& ctx) const {
+void LatticeStep::make_octree(Scene& scene, StepContext& ctx) const {
   const Eigen::Matrix3Xd region = concerning("box", [&] { return octree_region(scene, box, enclose); });
   const Parallelepiped placed = concerning("box", [&] { return fit_octree_box(scene, box, region); });
   OctreeOptions options = octree;
@@ -185,7 +197,7 @@ void LatticeStep::run_octree(Scene& scene, StepContext& ctx) const {
   auto made = std::make_unique<OctreeLattice>(placed, region, options);
   OctreeLattice* raw = made.get();
   scene.stack.push(scene.mesh, name, std::move(made));
-  scene.octrees[name] = raw;
+  scene.deformers[name] = raw;
 
   nlohmann::json levels = nlohmann::json::array();
   for (int l = 0; l < raw->num_levels(); ++l)
@@ -213,13 +225,13 @@ void LatticeStep::run_octree(Scene& scene, StepContext& ctx) const {
 }
 
 void LatticeStep::run(Scene& scene, StepContext& ctx) const {
-  if (basis == Basis::Octree) return run_octree(scene, ctx);
+  if (basis == Basis::Octree) return make_octree(scene, ctx);
   const LatticeSpec lattice = spec();
   const Parallelepiped placed = concerning("box", [&] { return make_box(scene, box); });
   std::unique_ptr<Lattice> made = make_lattice(lattice, placed);
   Lattice* raw = made.get();
   scene.stack.push(scene.mesh, name, std::move(made));
-  scene.lattices[name] = raw;
+  scene.deformers[name] = raw;
 
   std::size_t movable = 0, inside = 0;
   for (std::size_t f = 0; f < raw->num_points(); ++f) movable += raw->movable(raw->index(f));

@@ -1,7 +1,9 @@
-// The move op: lattice control points moved by index (`by` / `to`), or a selection of
-// movable points moved by a 9-dof transform about its centroid.
+// The move op: control points of a deformer's level moved by index (`by` / `to`), a
+// selection of movable points moved by a 9-dof transform about its centroid, or every
+// point set from a file of positions (a control net the save op wrote, edited elsewhere).
+#include <algorithm>
+
 #include "common/numbers.h"
-#include "multires/octree_lattice.h"
 #include "script/lattice_reports.h"
 #include "script/op.h"
 #include "script/selection.h"
@@ -14,18 +16,25 @@ struct MovePoint {
   std::optional<Eigen::Vector3d> by, to;
 };
 
+/// The points a move changes and where they go.
+struct MoveTargets {
+  std::vector<std::size_t> ids;
+  std::vector<Eigen::Vector3d> targets;
+};
+
 struct MoveStep final : Step {
   std::string lattice;
   std::vector<MovePoint> points;
   std::optional<Selection> select;
   std::optional<Transform> transform;
+  std::optional<PointPositions> positions;
   std::optional<int> level;
 
   void check(ScriptChecks& checks) const override;
-  void check_octree(ScriptChecks& checks, int levels) const;
   void run(Scene& scene, StepContext& ctx) const override;
-  std::size_t move_selection(Lattice& target) const;
-  void run_octree(Scene& scene, OctreeLattice& target, StepContext& ctx) const;
+  MoveTargets listed(const Deformer& target, int l) const;
+  MoveTargets selected(const Deformer& target, int l) const;
+  MoveTargets from_file(Scene& scene, const Deformer& target, int l, const StepContext& ctx) const;
 };
 
 KeyTable<MovePoint> point_keys() {
@@ -54,118 +63,142 @@ KeyTable<MoveStep> move_keys() {
            key<S>("/transform", schema_ref("transform"), nullptr,
                   "The map applied to the selected points; center: their centroid.",
                   [](auto& s) -> auto& { return s.transform; }),
+           group_key<S>("/positions",
+                        "Every point of the level, in the order the save op writes the lattice's net: each movable "
+                        "point goes there (points already there stay untouched); a fixed point whose position differs "
+                        "is reported in a warning. The lattice's net must be saved as it is (no lattice created after "
+                        "it deforms it)."),
+           key<S>("/positions/file", schema_text(), nullptr,
+                  "An OBJ file's v lines (a control net the save op wrote, edited anywhere), or a text file of "
+                  "x y z lines; relative to the script's folder.",
+                  [](auto& s) -> auto& { return s.positions; })
+               .required()
+               .about("positions"),
            key<S>("/level", schema_integer(0), nullptr,
                   "Octree lattices: the level whose points move (default: the finest); index [i, j, k] is a grid "
                   "node of that level, 0 <= i, j, k <= 2^level. Moving a finer level after a coarser one edits "
                   "hierarchically: the finer level follows the coarser one's deformation.",
                   [](auto& s) -> auto& { return s.level; })},
-          {{"points"}, {"select", "transform"}}};
-}
-
-void MoveStep::check_octree(ScriptChecks& checks, int levels) const {
-  // A local level's nodes are at twice its source's resolution; the run checks them.
-  const int top = 1 << std::min(level.value_or(levels), checks.octrees.at(lattice) + 1);
-  for (std::size_t i = 0; i < points.size(); ++i)
-    for (int a = 0; a < 3; ++a)
-      if (points[i].index[a] < 0 || points[i].index[a] > top)
-        checks.fail(pointer + "/points/" + std::to_string(i) + "/index",
-                    "point " + write_value(points[i].index).dump() + " is not movable (movable: " +
-                        octree_points_text(level.value_or(levels), top) + ")");
+          {{"points"}, {"select", "transform"}, {"positions"}}};
 }
 
 void MoveStep::check(ScriptChecks& checks) const {
-  if (const int levels = checks.check_lattice_level(lattice, level, pointer); levels >= 0)
-    return check_octree(checks, levels);
-  const LatticeSpec& shape = checks.lattice_of(lattice, pointer + "/lattice");
+  const int l = checks.check_lattice_level(lattice, level, pointer);
+  const DeformerShape& shape = checks.deformers.at(lattice);
   for (std::size_t i = 0; i < points.size(); ++i)
-    for (int a = 0; a < 3; ++a) {
-      int lo, hi;
-      movable_span(shape, a, lo, hi);
-      const int v = points[i].index[a];
-      if (v < lo || v > hi)
-        checks.fail(pointer + "/points/" + std::to_string(i) + "/index", "point " +
-                                                                             write_value(points[i].index).dump() +
-                                                                             " is not movable (movable: " +
-                                                                             movable_text(shape) + ")");
-    }
+    if (const std::optional<std::string> movable = shape.unmovable(l, points[i].index))
+      checks.fail(pointer + "/points/" + std::to_string(i) + "/index",
+                  "point " + write_value(points[i].index).dump() + " is not movable (movable: " + *movable + ")");
 }
 
-std::size_t MoveStep::move_selection(Lattice& target) const {
-  const std::vector<std::size_t> picked = select_lattice_points(*select, target);
+// Listed points, in order; a point listed again moves on from where the list put it.
+MoveTargets MoveStep::listed(const Deformer& target, int l) const {
+  MoveTargets out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    PointIndex index;
+    index.ijk = points[i].index;
+    const std::optional<std::size_t> id = target.find_point(l, index);
+    if (!id) throw InputError(target.missing_point(l, index), {"points", i});
+    const auto seen = std::find(out.ids.begin(), out.ids.end(), *id);
+    const Eigen::Vector3d now =
+        seen != out.ids.end() ? out.targets[static_cast<std::size_t>(seen - out.ids.begin())]
+                              : Eigen::Vector3d(target.points(l, {*id}).col(0));
+    const Eigen::Vector3d to = points[i].by ? Eigen::Vector3d(now + *points[i].by) : *points[i].to;
+    if (seen != out.ids.end()) {
+      out.targets[static_cast<std::size_t>(seen - out.ids.begin())] = to;
+    } else {
+      out.ids.push_back(*id);
+      out.targets.push_back(to);
+    }
+  }
+  return out;
+}
+
+MoveTargets MoveStep::selected(const Deformer& target, int l) const {
+  MoveTargets out;
+  out.ids = select_points(*select, target, l);
+  const Eigen::Matrix3Xd current = target.points(l, out.ids);
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  std::vector<Eigen::Vector3d> current;
-  for (std::size_t f : picked) {
-    current.push_back(target.point(target.index(f)));
-    centroid += current.back();
-  }
-  centroid /= static_cast<double>(picked.size());
-  for (std::size_t i = 0; i < picked.size(); ++i)
-    target.move_point(target.index(picked[i]), transform->apply(current[i], centroid));
-  return picked.size();
+  for (Eigen::Index i = 0; i < current.cols(); ++i) centroid += current.col(i);
+  centroid /= static_cast<double>(out.ids.size());
+  for (Eigen::Index i = 0; i < current.cols(); ++i) out.targets.push_back(transform->apply(current.col(i), centroid));
+  return out;
 }
 
-void MoveStep::run_octree(Scene& scene, OctreeLattice& target, StepContext& ctx) const {
-  const int l = level.value_or(target.num_levels() - 1);
-  const Eigen::Matrix3Xd shown = target.points(l);
-  std::vector<std::int32_t> ids;
-  std::vector<Eigen::Vector3d> targets;
-  if (select) {
-    for (std::size_t p : select_octree_points(*select, target, l)) ids.push_back(static_cast<std::int32_t>(p));
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (std::int32_t id : ids) centroid += shown.col(id);
-    centroid /= static_cast<double>(ids.size());
-    for (std::int32_t id : ids) targets.push_back(transform->apply(shown.col(id), centroid));
-  } else {
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const std::int32_t id = target.point_index(l, points[i].index);
-      if (id < 0)
-        throw InputError("point " + write_value(points[i].index).dump() + " is no corner of a cell of level " +
-                             std::to_string(l) + " (its cells were cut: they hold no vertex of the region)",
-                         {"points", i});
-      ids.push_back(id);
-      targets.push_back(points[i].by ? Eigen::Vector3d(shown.col(id) + *points[i].by) : *points[i].to);
+/// Fails unless the warps created after lattice `name` leave every point of `now` where it
+/// is: positions are read as the save op writes the net, carried through those warps.
+void check_net_not_carried(const Scene& scene, const std::string& name, const Eigen::Matrix3Xd& now) {
+  const std::size_t k = scene.stack.index_of(name);
+  if (k + 1 >= scene.stack.size()) return;
+  for (Eigen::Index p = 0; p < now.cols(); ++p)
+    if (scene.stack.carry_from(k, now.col(p)) != now.col(p)) {
+      std::string later;
+      for (std::size_t j = k + 1; j < scene.stack.size(); ++j) later += (later.empty() ? "'" : ", '") + scene.stack.name(j) + "'";
+      throw InputError("lattice '" + name + "' is deformed by the lattices created after it (" + later +
+                           "), so its saved net is not its own points; set its positions before creating them",
+                       {"positions"});
     }
+}
+
+// Every point of the level from the file, in net order: the movable points that differ move
+// there; a fixed point that differs stays, and a warning says so.
+MoveTargets MoveStep::from_file(Scene& scene, const Deformer& target, int l, const StepContext& ctx) const {
+  const std::vector<Eigen::Vector3d>& given = positions->points;
+  const std::size_t n = target.num_points(l);
+  if (given.size() != n)
+    throw InputError("'" + positions->file + "' has " + format_count(given.size()) + " points; level " +
+                         std::to_string(l) + " of lattice '" + lattice + "' has " + format_count(n),
+                     {"positions"});
+  const Eigen::Matrix3Xd now = target.points(l);
+  check_net_not_carried(scene, lattice, now);
+  MoveTargets out;
+  std::vector<std::size_t> fixed;
+  for (std::size_t id = 0; id < n; ++id) {
+    if (given[id] == now.col(static_cast<Eigen::Index>(id))) continue;
+    if (!target.point_movable(l, id)) {
+      fixed.push_back(id);
+      continue;
+    }
+    out.ids.push_back(id);
+    out.targets.push_back(given[id]);
   }
-  const OctreeMove moved = target.move_points(l, ids, targets);
-  const WarpStack::Update update = scene.stack.update(scene.mesh, lattice);
-  ctx.stats["lattice"] = lattice;
-  ctx.stats["level"] = l;
-  ctx.stats["points_moved"] = moved.points_moved;
-  ctx.stats["cells_subdivided"] = moved.cells_subdivided;
-  ctx.stats["cells_relocated"] = moved.cells_marked;
-  report_update(scene, update, ctx);
-  ctx.summary = "move '" + lattice + "' level " + std::to_string(l) + ": " + format_count(moved.points_moved) +
-                " points, " + format_count(moved.cells_subdivided) + " cells subdivided, " +
-                format_count(update.moved) + " vertices moved";
+  if (!fixed.empty())
+    scene.warnings.push_back(ctx.pointer + ": " + format_count(fixed.size()) + " fixed points of lattice '" +
+                             lattice + "' differ in '" + positions->file + "' (the first: its point " +
+                             std::to_string(fixed[0] + 1) + ", index " + target.point_index(l, fixed[0]).text() +
+                             "); they stay where they are (movable: " +
+                             target.movable_text(l) + ")");
+  return out;
 }
 
 void MoveStep::run(Scene& scene, StepContext& ctx) const {
-  if (OctreeLattice* octree = scene.octree(lattice)) return run_octree(scene, *octree, ctx);
-  Lattice& target = scene.lattice(lattice);
-  std::size_t moved_points = 0;
-  if (select) {
-    moved_points = move_selection(target);
-  } else {
-    for (const MovePoint& point : points) {
-      target.move_point(point.index, point.by ? Eigen::Vector3d(target.point(point.index) + *point.by) : *point.to);
-      ++moved_points;
-    }
-  }
+  Deformer& target = scene.deformer(lattice);
+  const int l = level.value_or(target.default_level());
+  const MoveTargets move = select ? selected(target, l) : positions ? from_file(scene, target, l, ctx) : listed(target, l);
+  const MoveReport moved = target.move_points(l, move.ids, move.targets);
   const WarpStack::Update update = scene.stack.update(scene.mesh, lattice);
   ctx.stats["lattice"] = lattice;
-  ctx.stats["points_moved"] = moved_points;
+  if (target.has_levels()) ctx.stats["level"] = l;
+  ctx.stats["points_moved"] = moved.points_moved;
+  ctx.summary = "move '" + lattice + "'" + (target.has_levels() ? " level " + std::to_string(l) : "") + ": " +
+                format_count(moved.points_moved) + " points, ";
+  for (const MoveReport::Count& count : moved.counts) {
+    ctx.stats[count.key] = count.value;
+    if (!count.summary.empty()) ctx.summary += format_count(count.value) + " " + count.summary + ", ";
+  }
+  if (positions) ctx.stats["positions"] = positions->file;
   report_update(scene, update, ctx);
   warn_if_tearing(scene, target, lattice, ctx);
-  ctx.summary = "move '" + lattice + "': " + format_count(moved_points) + " points, " + format_count(update.moved) +
-                " vertices moved";
+  ctx.summary += format_count(update.moved) + " vertices moved";
 }
 
 }  // namespace
 
 const OpInfo& move_op() {
-  static const OpDecl<MoveStep> op{
-      "move", "Moves lattice control points: listed points by `by`/`to`, or a selection by a transform.",
-      move_keys()};
+  static const OpDecl<MoveStep> op{"move",
+                                   "Moves lattice control points: listed points by `by`/`to`, a selection by a "
+                                   "transform, or every point to positions from a file.",
+                                   move_keys()};
   return op;
 }
 

@@ -76,7 +76,7 @@ void RemeshStep::check(ScriptChecks& checks) const {
   if (o.tolerance && !(*o.tolerance > 0)) checks.fail(p + "/tolerance", "must be a positive length");
   if (o.tolerance_min && !(*o.tolerance_min < *o.tolerance))
     checks.fail(p + "/tolerance_min", "must be below tolerance, or refinement and decimation would undo each other");
-  if (!o.l_max && checks.lattices.empty() && checks.octrees.empty())
+  if (!o.l_max && checks.deformers.empty())
     checks.fail(p + "/l_max", "\"auto\" takes the smallest lattice cell, but no lattice is created before this step");
 }
 

@@ -1,14 +1,15 @@
-// The save op: write the current mesh mid-script.
+// The save op: write the current mesh mid-script, a deformer's control net, or the
+// sensitivities of the mesh to a deformer's points (dx/dp, Matrix Market).
 #include <algorithm>
 #include <filesystem>
 #include <optional>
 
 #include "common/numbers.h"
-#include "multires/octree_lattice.h"
 #include "remesh/adaptive_remesher.h"
 #include "render/control_net.h"
 #include "script/op.h"
 #include "script/output_files.h"
+#include "warp/sensitivity.h"
 
 namespace ffd {
 namespace {
@@ -21,15 +22,18 @@ struct SaveStep final : Step {
   std::optional<std::string> preview;
   std::optional<std::string> lattice;
   std::optional<int> level;
+  std::optional<std::string> sensitivity;  // the deformer
+  std::optional<int> sensitivity_level;
 
   std::vector<OutputFile> outputs() const override {
-    std::vector<OutputFile> out = {{"/path", path}};
+    std::vector<OutputFile> out = {{"/path", path, false, sensitivity.has_value()}};
     if (preview) out.push_back({"/preview", *preview, true});
     return out;
   }
   void check(ScriptChecks& checks) const override;
   void run(Scene& scene, StepContext& ctx) const override;
   void save_net(Scene& scene, StepContext& ctx) const;
+  void save_sensitivity(Scene& scene, StepContext& ctx) const;
 };
 
 KeyTable<SaveStep> save_keys() {
@@ -48,12 +52,36 @@ KeyTable<SaveStep> save_keys() {
            key<S>("/lattice", schema_text(), nullptr,
                   "Write this lattice's control net instead of the mesh (OBJ: its points as v, its edges as l), "
                   "where the lattices created after it carry it.",
-                  [](auto& s) -> auto& { return s.lattice; }),
+                  [](auto& s) -> auto& { return s.lattice; })
+               .about("lattice"),
            key<S>("/level", schema_integer(0), nullptr, "With an octree lattice: the level (default: the finest).",
-                  [](auto& s) -> auto& { return s.level; })}};
+                  [](auto& s) -> auto& { return s.level; }),
+           group_key<S>("/sensitivity",
+                        "Write dx/dp instead of the mesh: the derivative of every vertex's current position with "
+                        "respect to every movable point of a lattice's level, through the lattices created after it "
+                        "(chain rule), as a Matrix Market coordinate matrix (.mtx): row 3v + axis, column 3m + axis "
+                        "(m: the movable points in the order of the lattice's saved net; 1-based in the file), 17 "
+                        "significant digits, a header comment '% point m index i j k' per point."),
+           key<S>("/sensitivity/lattice", schema_text(), nullptr,
+                  "The lattice (one that a surface edit froze into the mesh has no sensitivity).",
+                  [](auto& s) -> auto& { return s.sensitivity; })
+               .required()
+               .about("sensitivity_lattice"),
+           key<S>("/sensitivity/level", schema_integer(0), nullptr,
+                  "With an octree lattice: the level whose points p are (default: the finest); the other levels' "
+                  "own moves are held, as a move of this level holds them.",
+                  [](auto& s) -> auto& { return s.sensitivity_level; })}};
 }
 
 void SaveStep::check(ScriptChecks& checks) const {
+  if (sensitivity) {
+    checks.check_lattice_level(*sensitivity, sensitivity_level, pointer + "/sensitivity");
+    if (lattice) checks.fail(pointer + "/lattice", "a control net and sensitivities are separate saves");
+    if (level) checks.fail(pointer + "/level", "the level of sensitivities is sensitivity/level");
+    if (preview) checks.fail(pointer + "/preview", "a preview goes with a mesh, not with sensitivities");
+    if (colors_by_level) checks.fail(pointer + "/colors", "colors are for meshes, not sensitivities");
+    return;
+  }
   if (!lattice) {
     if (level) checks.fail(pointer + "/level", "level goes with lattice");
     return;
@@ -79,15 +107,13 @@ void write_net_obj(std::ostream& os, const Overlay& net, const std::string& titl
 }
 
 void SaveStep::save_net(Scene& scene, StepContext& ctx) const {
-  Overlay net;
+  const Deformer& deformer = scene.deformer(*lattice);
+  const int l = level.value_or(deformer.default_level());
+  Overlay net = control_net(deformer, l);
   std::string title = "control net of lattice '" + *lattice + "'";
-  if (OctreeLattice* octree = scene.octree(*lattice)) {
-    const int l = level.value_or(octree->num_levels() - 1);
-    net = control_net(*octree, l);
+  if (deformer.has_levels()) {
     title += ", level " + std::to_string(l);
     ctx.stats["level"] = l;
-  } else {
-    net = control_net(scene.lattice(*lattice));
   }
   const std::size_t k = scene.stack.index_of(*lattice);
   for (Eigen::Vector3d& p : net.points) p = scene.stack.carry_from(k, p);
@@ -103,7 +129,38 @@ void SaveStep::save_net(Scene& scene, StepContext& ctx) const {
                 format_count(net.edges.size()) + " edges";
 }
 
+void SaveStep::save_sensitivity(Scene& scene, StepContext& ctx) const {
+  const Deformer& deformer = [&]() -> const Deformer& {
+    try {
+      return scene.deformer(*sensitivity);
+    } catch (InputError& e) {  // frozen by a surface edit: placed at this key, not at save's lattice
+      e.set_subject({"sensitivity_lattice"});
+      throw;
+    }
+  }();
+  const int l = sensitivity_level.value_or(deformer.default_level());
+  const std::size_t k = scene.stack.index_of(*sensitivity);
+  SensitivityCounts counts;
+  StagedFile staged{std::filesystem::path(scene.output_folder) / path};
+  const std::size_t bytes =
+      staged.write([&](std::ostream& os) { counts = write_sensitivity(os, scene.stack, k, deformer, l, scene.mesh); });
+  scene.staged.push_back(std::move(staged));
+  ctx.stats["path"] = path;
+  ctx.stats["sensitivity"] = *sensitivity;
+  if (deformer.has_levels()) ctx.stats["level"] = l;
+  ctx.stats["rows"] = counts.rows;
+  ctx.stats["columns"] = counts.columns;
+  ctx.stats["movable_points"] = counts.points;
+  ctx.stats["entries"] = counts.entries;
+  ctx.stats["bytes"] = bytes;
+  ctx.summary = "save " + path + ": dx/dp of " + format_count(scene.mesh.num_vertices()) + " vertices by " +
+                format_count(counts.points) + " points of lattice '" + *sensitivity + "'" +
+                (deformer.has_levels() ? " level " + std::to_string(l) : "") + ", " + format_count(counts.entries) +
+                " entries";
+}
+
 void SaveStep::run(Scene& scene, StepContext& ctx) const {
+  if (sensitivity) return save_sensitivity(scene, ctx);
   if (lattice) return save_net(scene, ctx);
   WriteOptions options = scene.write_options();
   if (colors_by_level) {

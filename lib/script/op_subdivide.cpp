@@ -35,19 +35,19 @@ KeyTable<SubdivideStep> subdivide_keys() {
 }
 
 void SubdivideStep::check(ScriptChecks& checks) const {
-  if (checks.octree_levels(lattice) < 0) {
-    checks.lattice_of(lattice, pointer + "/lattice");
-    checks.fail(pointer + "/lattice", "subdivide works on octree lattices");
-  }
-  const int grid_levels = checks.octrees.at(lattice);
-  if (level && *level > grid_levels)
-    checks.fail(pointer + "/level", "lattice '" + lattice + "' has octree levels 0 to " + std::to_string(grid_levels) +
+  checks.deformer_of(lattice, pointer + "/lattice");
+  DeformerShape& shape = checks.deformers.at(lattice);
+  if (shape.subdividable < 0) checks.fail(pointer + "/lattice", "subdivide works on octree lattices");
+  if (level && *level > shape.subdividable)
+    checks.fail(pointer + "/level", "lattice '" + lattice + "' has octree levels 0 to " +
+                                        std::to_string(shape.subdividable) +
                                         " (a level made by subdivide cannot be subdivided again)");
-  ++checks.octree_local_levels[lattice];
+  ++shape.levels;
 }
 
 void SubdivideStep::run(Scene& scene, StepContext& ctx) const {
-  OctreeLattice& target = *scene.octree(lattice);
+  // The script checks made sure that the lattice is an octree lattice (subdividable).
+  OctreeLattice& target = dynamic_cast<OctreeLattice&>(scene.deformer(lattice));
   const int l = level.value_or(target.num_grid_levels() - 1);
   std::vector<std::int32_t> picked;
   for (std::size_t c : select_octree_cells(cells, target, l)) picked.push_back(static_cast<std::int32_t>(c));

@@ -3,7 +3,6 @@
 #include <filesystem>
 
 #include "common/errors.h"
-#include "multires/octree_lattice.h"
 #include "render/control_net.h"
 #include "render/png_io.h"
 #include "render/render.h"
@@ -23,8 +22,7 @@ std::size_t stage_mesh_at(Scene& scene, const std::string& path, const WriteOpti
 std::size_t stage_preview(Scene& scene, const std::string& target) {
   if (!has_png_extension(target)) throw InputError(At{target}, "a preview is a PNG picture: give it the extension .png");
   std::vector<Overlay> nets;
-  for (const auto& [name, lattice] : scene.lattices) nets.push_back(control_net(*lattice));
-  for (const auto& [name, octree] : scene.octrees) nets.push_back(control_net(*octree, octree->num_levels() - 1));
+  for (const auto& [name, deformer] : scene.deformers) nets.push_back(control_net(*deformer));
   const Image image = render_mesh(scene.mesh, RenderOptions{}, nullptr, nets);
   StagedFile staged{std::filesystem::path(target)};
   const std::size_t bytes = staged.write([&](std::ostream& os) { write_png(os, image); });

@@ -25,15 +25,9 @@ void check_not_baked(const Scene& scene, const std::string& name) {
 
 }  // namespace
 
-Lattice& Scene::lattice(const std::string& name) {
+Deformer& Scene::deformer(const std::string& name) {
   check_not_baked(*this, name);
-  return *lattices.at(name);
-}
-
-OctreeLattice* Scene::octree(const std::string& name) {
-  check_not_baked(*this, name);
-  auto it = octrees.find(name);
-  return it == octrees.end() ? nullptr : it->second;
+  return *deformers.at(name);
 }
 
 }  // namespace ffd

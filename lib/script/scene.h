@@ -1,4 +1,4 @@
-// Scene: what a script's steps act on (DESIGN.md "the data as it flows").
+// Scene: what a script's steps act on (docs/architecture.md, "The data as it flows").
 #pragma once
 
 #include <functional>
@@ -12,12 +12,11 @@
 #include "common/atomic_file.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_io.h"
-#include "warp/lattice.h"
+#include "warp/deformer.h"
 #include "warp/warp_stack.h"
 
 namespace ffd {
 
-class OctreeLattice;
 struct SurfaceEditor;
 /// Deletes a SurfaceEditor (surface_edits.cpp), so that this header needs only its name.
 struct SurfaceEditorDelete {
@@ -27,10 +26,8 @@ struct SurfaceEditorDelete {
 struct Scene {
   Mesh mesh;
   WarpStack stack;
-  /// Lattices by name; owned by `stack`.
-  std::map<std::string, Lattice*> lattices;
-  /// Octree (multiresolution) lattices by name; owned by `stack`.
-  std::map<std::string, OctreeLattice*> octrees;
+  /// Deformers (lattices of every kind) by name; owned by `stack`.
+  std::map<std::string, Deformer*> deformers;
   /// Lattices frozen into the rest positions by a surface edit: name -> step pointer.
   std::map<std::string, std::string> baked;
   /// Boundary-constraint editors by name (bcm steps), driven by transform steps.
@@ -43,11 +40,9 @@ struct Scene {
 
   /// Write options that carry file normals through the warp stack.
   WriteOptions write_options() const;
-  /// The named lattice. \throw InputError about "lattice" if it was baked by a surface edit.
-  Lattice& lattice(const std::string& name);
-  /// The named octree lattice, or null when `name` is a tensor-product lattice.
+  /// The deformer called `name` (the script checks created it before the step).
   /// \throw InputError about "lattice" if it was baked by a surface edit.
-  OctreeLattice* octree(const std::string& name);
+  Deformer& deformer(const std::string& name);
 };
 
 /// What one step reports: its JSON stats object (op-specific counts) and a summary line;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "common/errors.h"
+#include "common/text_file.h"
 #include "script/schema.h"
 #include "script/schema_check.h"
 #include "script/script_checks.h"
@@ -46,11 +47,9 @@ Script parse_script(const std::string& text, const std::string& path) {
 Script load_script(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(At{path}, "no such file");
-  std::ifstream is(path, std::ios::binary);
-  if (!is) throw InputError(At{path}, "cannot open for reading");
-  std::stringstream ss;
-  ss << is.rdbuf();
-  return parse_script(ss.str(), path);
+  const std::optional<std::string> text = read_text_file(path);
+  if (!text) throw InputError(At{path}, "cannot open for reading");
+  return parse_script(*text, path);
 }
 
 }  // namespace ffd

@@ -16,7 +16,9 @@ void ScriptChecks::fail(const std::string& pointer, const std::string& what) con
 void ScriptChecks::check_output_path(const OutputFile& file, const std::string& pointer) const {
   const std::string& path = file.path;
   if (file.picture && !has_png_extension(path)) fail(pointer, "'" + path + "': a preview is a PNG picture (.png)");
-  if (!file.picture) {
+  if (file.matrix && std::filesystem::path(path).extension() != ".mtx")
+    fail(pointer, "'" + path + "': sensitivities are a Matrix Market file (.mtx)");
+  if (!file.picture && !file.matrix) {
     try {
       mesh_format(path);
     } catch (const InputError&) {
@@ -29,36 +31,23 @@ void ScriptChecks::check_output_path(const OutputFile& file, const std::string& 
   if (p.is_absolute()) fail(pointer, "output paths are relative to the output folder");
 }
 
-const LatticeSpec& ScriptChecks::lattice_of(const std::string& name, const std::string& pointer) const {
-  auto it = lattices.find(name);
-  if (it == lattices.end()) {
-    if (octrees.count(name)) fail(pointer, "lattice '" + name + "' is an octree lattice; this step needs a B-spline or Bernstein lattice");
-    fail(pointer, "no lattice named '" + name + "' is created before this step");
-  }
+const DeformerShape& ScriptChecks::deformer_of(const std::string& name, const std::string& pointer) const {
+  auto it = deformers.find(name);
+  if (it == deformers.end()) fail(pointer, "no lattice named '" + name + "' is created before this step");
   return it->second;
-}
-
-int ScriptChecks::octree_levels(const std::string& name) const {
-  auto it = octrees.find(name);
-  if (it == octrees.end()) return -1;
-  auto local = octree_local_levels.find(name);
-  return it->second + (local == octree_local_levels.end() ? 0 : local->second);
 }
 
 int ScriptChecks::check_lattice_level(const std::string& name, const std::optional<int>& level,
                                       const std::string& pointer) const {
-  const int levels = octree_levels(name);
-  if (levels < 0) {
-    lattice_of(name, pointer + "/lattice");
-    if (level) fail(pointer + "/level", "level is for octree lattices");
-  } else if (level && *level > levels) {
-    fail(pointer + "/level", "lattice '" + name + "' has levels 0 to " + std::to_string(levels));
-  }
-  return levels;
+  const DeformerShape& shape = deformer_of(name, pointer + "/lattice");
+  if (!shape.has_levels && level) fail(pointer + "/level", "level is for octree lattices");
+  if (level && *level > shape.levels)
+    fail(pointer + "/level", "lattice '" + name + "' has levels 0 to " + std::to_string(shape.levels));
+  return level.value_or(shape.levels);
 }
 
 void ScriptChecks::check_new_lattice(const std::string& name, const std::string& pointer) const {
-  if (lattices.count(name) || octrees.count(name)) fail(pointer, "a lattice named '" + name + "' already exists");
+  if (deformers.count(name)) fail(pointer, "a lattice named '" + name + "' already exists");
 }
 
 }  // namespace ffd

@@ -3,17 +3,29 @@
 // script's typed steps in order; each step's check() records and tests what it needs.
 #pragma once
 
+#include <array>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
-#include "warp/lattice_spec.h"
-
 namespace ffd {
 
 struct OutputFile;
+
+/// What later steps may rely on about a deformer a step creates, before any work.
+struct DeformerShape {
+  std::string kind;         // the lattice op's basis: "bspline", "bernstein", "octree"
+  bool has_levels = false;  // whether steps may name a level
+  int levels = 0;           // the highest level index (local levels included)
+  int subdividable = -1;    // the highest level the subdivide op can split; -1: none
+  /// For a point index [i, j, k] at a level: the text of which points are movable when
+  /// it is none of them ("i in [2, 4], ..."), or nothing when it may be one (the run
+  /// checks what only the mesh decides, such as an octree's cut cells).
+  std::function<std::optional<std::string>(int, const std::array<int, 3>&)> unmovable;
+};
 
 class ScriptChecks {
 public:
@@ -24,25 +36,17 @@ public:
   /// A file a step writes: a mesh extension (a picture: .png), relative, inside the
   /// output folder.
   void check_output_path(const OutputFile& file, const std::string& pointer) const;
-  /// The lattice called `name`; fails at `pointer` if no step created it earlier.
-  const LatticeSpec& lattice_of(const std::string& name, const std::string& pointer) const;
-
-  /// The highest level index of the octree lattice called `name` (local levels included),
-  /// or -1 when it is not one (a tensor-product lattice, or none: then lattice_of says so).
-  int octree_levels(const std::string& name) const;
+  /// The deformer called `name`; fails at `pointer` if no step created it earlier.
+  const DeformerShape& deformer_of(const std::string& name, const std::string& pointer) const;
   /// A step's lattice `name` and its "level": fails at pointer + "/lattice" when no lattice
-  /// is called so, and at pointer + "/level" when a level is given for a B-spline or
-  /// Bernstein lattice or lies beyond an octree lattice's. Returns the octree lattice's
-  /// highest level, or -1 for a tensor-product lattice.
+  /// is called so, and at pointer + "/level" when a level is given for a kind without levels
+  /// or lies beyond the deformer's. Returns the level the step acts on (default: the finest).
   int check_lattice_level(const std::string& name, const std::optional<int>& level, const std::string& pointer) const;
   /// Fails at `pointer` when a lattice called `name` exists already.
   void check_new_lattice(const std::string& name, const std::string& pointer) const;
 
-  std::map<std::string, LatticeSpec> lattices;
-  /// Octree lattices: name -> levels (octree subdivisions); and how many local levels
-  /// subdivide steps added after them.
-  std::map<std::string, int> octrees;
-  std::map<std::string, int> octree_local_levels;
+  /// Deformers by name, as the steps so far made them.
+  std::map<std::string, DeformerShape> deformers;
   /// Handle names of each bcm editor, in order (bcm steps record them, transform steps check).
   std::map<std::string, std::vector<std::string>> editor_handles;
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "script/point_file.h"
 #include "script/selection.h"
 
 namespace ffd {
@@ -11,6 +12,16 @@ namespace {
 using json = nlohmann::json;
 
 Eigen::Vector3d vec3(const json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+
+/// A file named in the script (the string j), relative to the script's folder; fails at
+/// `place` when absent.
+std::string script_file(const json& j, const ScriptPlace& place, const char* what) {
+  std::string file = j.get<std::string>();
+  if (!file.empty() && file[0] != '/' && !place.folder.empty()) file = place.folder + "/" + file;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) place.fail(std::string("no such ") + what + " '" + file + "'");
+  return file;
+}
 
 // One schema-checked selection part; `file` entries are read now.
 SelectionPart read_part(const json& part, const ScriptPlace& place) {
@@ -41,11 +52,7 @@ SelectionPart read_part(const json& part, const ScriptPlace& place) {
     out.center = vec3(part["near"]);
   } else {
     out.kind = SelectionPart::Kind::File;
-    std::string file = part["file"].get<std::string>();
-    if (!file.empty() && file[0] != '/' && !place.folder.empty()) file = place.folder + "/" + file;
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec))
-      place.at("/file").fail("no such selection file '" + file + "'");
+    const std::string file = script_file(part["file"], place.at("/file"), "selection file");
     out.file = file;
     out.file_vertices = read_index_file(file);  // throws with the file's line on a malformed entry
   }
@@ -141,6 +148,11 @@ std::string frame_path(const std::string& pattern, std::size_t i) {
     }
   }
   return out;
+}
+
+void read_value(const json& j, PointPositions& out, const ScriptPlace& place) {
+  out.file = script_file(j, place, "file of positions");  // j: the file's name
+  out.points = read_point_file(out.file);  // throws with the file's line on a line it cannot read
 }
 
 }  // namespace ffd

@@ -35,7 +35,7 @@ struct ScriptPlace {
   [[noreturn]] void fail(const std::string& message) const { throw InputError(At{text()}, message); }
 };
 
-/// One part of a selection (DESIGN.md's shared grammar), read and checked at load time.
+/// One part of a selection (docs/script-reference.md, selection_part), read and checked at load time.
 struct SelectionPart {
   enum class Kind { Indices, Sphere, Box, Near, File };
   /// An entry of an `indices` list: a mesh vertex, or a lattice index [i, j, k].
@@ -76,6 +76,13 @@ struct BoxSpec {
   std::optional<Selection> select;
 };
 
+/// Positions of every point of a deformer's level, from a file (the move op's
+/// positions/file), read with the script (point_file.h).
+struct PointPositions {
+  std::string file;  // as resolved against the script's folder
+  std::vector<Eigen::Vector3d> points;
+};
+
 void read_value(const nlohmann::json& j, double& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, int& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, long long& out, const ScriptPlace& place);
@@ -89,6 +96,9 @@ void read_value(const nlohmann::json& j, Transform& out, const ScriptPlace& plac
 /// malformed line (naming the file's line).
 void read_value(const nlohmann::json& j, Selection& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, BoxSpec& out, const ScriptPlace& place);
+/// Reads the file j names now. \throw InputError for a missing file (placed at `place`) or
+/// a line it cannot read (naming the file's line).
+void read_value(const nlohmann::json& j, PointPositions& out, const ScriptPlace& place);
 
 template <class T>
 void read_value(const nlohmann::json& j, std::optional<T>& out, const ScriptPlace& place) {

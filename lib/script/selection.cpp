@@ -9,6 +9,7 @@
 
 #include "common/errors.h"
 #include "common/numbers.h"
+#include "common/text_file.h"
 #include "mesh/text_lines.h"
 
 namespace ffd {
@@ -61,12 +62,9 @@ void sort_unique(std::vector<T>& v) {
 }  // namespace
 
 std::vector<std::uint32_t> read_index_file(const std::string& path) {
-  std::ifstream is(path, std::ios::binary);
-  if (!is) throw InputError(path + ": cannot read the selection file");
-  std::stringstream ss;
-  ss << is.rdbuf();
-  const std::string text = ss.str();
-  LineScanner lines(text);
+  const std::optional<std::string> text = read_text_file(path);
+  if (!text) throw InputError(path + ": cannot read the selection file");
+  LineScanner lines(*text);
   std::string_view line;
   std::vector<std::string_view> tokens;
   std::vector<std::uint32_t> out;
@@ -119,7 +117,7 @@ struct PickablePoints {
   std::string movable_text;
 };
 
-std::vector<std::size_t> select_points(const Selection& selection, const PickablePoints& pick) {
+std::vector<std::size_t> pick_points(const Selection& selection, const PickablePoints& pick) {
   std::vector<std::size_t> picked;
   for (const SelectionPart& part : selection.parts) {
     if (part.kind == SelectionPart::Kind::Indices) {
@@ -145,36 +143,19 @@ std::vector<std::size_t> select_points(const Selection& selection, const Pickabl
 
 }  // namespace
 
-std::vector<std::size_t> select_lattice_points(const Selection& selection, const Lattice& lattice) {
+std::vector<std::size_t> select_points(const Selection& selection, const Deformer& deformer, int level) {
   PickablePoints pick;
-  pick.points.resize(3, static_cast<Eigen::Index>(lattice.num_points()));
-  for (std::size_t f = 0; f < lattice.num_points(); ++f)
-    pick.points.col(static_cast<Eigen::Index>(f)) = lattice.point(lattice.index(f));
+  pick.points = deformer.points(level);
   pick.flat = [&](const Index3& ijk) -> std::optional<std::size_t> {
-    if (!lattice.in_range(ijk) || !lattice.movable(ijk)) return std::nullopt;
-    return lattice.flat(ijk);
+    PointIndex index;
+    index.ijk = ijk;
+    const std::optional<std::size_t> id = deformer.find_point(level, index);
+    if (!id || !deformer.point_movable(level, *id)) return std::nullopt;
+    return id;
   };
-  pick.movable = [&](std::size_t f) { return lattice.movable(lattice.index(f)); };
-  pick.movable_text = lattice.movable_range();
-  return select_points(selection, pick);
-}
-
-std::string octree_points_text(int level, int resolution) {
-  const std::string top = std::to_string(resolution);
-  return "the corners of level " + std::to_string(level) + "'s cells, grid nodes [i, j, k] in [0, " + top + "]";
-}
-
-std::vector<std::size_t> select_octree_points(const Selection& selection, const OctreeLattice& lattice, int level) {
-  PickablePoints pick;
-  pick.points = lattice.points(level);
-  pick.flat = [&](const Index3& ijk) -> std::optional<std::size_t> {
-    const std::int32_t id = lattice.point_index(level, ijk);
-    if (id < 0) return std::nullopt;
-    return static_cast<std::size_t>(id);
-  };
-  pick.movable = [](std::size_t) { return true; };
-  pick.movable_text = octree_points_text(level, lattice.resolution(level));
-  return select_points(selection, pick);
+  pick.movable = [&](std::size_t id) { return deformer.point_movable(level, id); };
+  pick.movable_text = deformer.movable_text(level);
+  return pick_points(selection, pick);
 }
 
 std::vector<std::size_t> select_octree_cells(const Selection& selection, const OctreeLattice& lattice, int level) {
@@ -192,7 +173,7 @@ std::vector<std::size_t> select_octree_cells(const Selection& selection, const O
   pick.movable = [](std::size_t) { return true; };
   pick.movable_text = "the kept cells of level " + std::to_string(level) + ", [i, j, k] in [0, " +
                       std::to_string(g.resolution - 1) + "]";
-  return select_points(selection, pick);
+  return pick_points(selection, pick);
 }
 
 }  // namespace ffd

@@ -64,8 +64,7 @@ nlohmann::ordered_json bake_stack(Scene& scene, const std::string& pointer) {
   if (scene.stack.size() == 0) return names;
   for (const std::string& name : scene.stack.bake(scene.mesh)) {
     scene.baked[name] = pointer;
-    scene.lattices.erase(name);
-    scene.octrees.erase(name);
+    scene.deformers.erase(name);
     names.push_back(name);
   }
   return names;

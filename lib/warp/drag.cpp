@@ -23,30 +23,37 @@ std::vector<std::pair<std::size_t, Eigen::Vector3d>> least_norm_change(const std
   return change;
 }
 
-DragResult drag(Lattice& lattice, const std::vector<Eigen::Vector3d>& at,
-                const std::vector<Eigen::Vector3d>& to) {
+DragResult drag(Deformer& deformer, int level, const std::vector<Eigen::Vector3d>& at,
+                const std::vector<Eigen::Vector3d>& to, MoveReport* moved) {
   DragResult result;
   const std::size_t m = at.size();
   std::vector<WeightRow> rows(m);
   Eigen::MatrixXd E(static_cast<Eigen::Index>(m), 3);
   for (std::size_t i = 0; i < m; ++i) {
-    lattice.movable_weights(at[i], rows[i]);
+    deformer.movable_weights(level, at[i], rows[i]);
     if (rows[i].empty()) ++result.unreachable;
-    E.row(static_cast<Eigen::Index>(i)) = (to[i] - lattice.apply(at[i], nullptr)).transpose();
+    E.row(static_cast<Eigen::Index>(i)) = (to[i] - deformer.apply(at[i], nullptr)).transpose();
   }
-  for (const auto& [flat, delta] : least_norm_change(rows, E)) {
+  std::vector<std::size_t> ids;
+  std::vector<Eigen::Vector3d> deltas;
+  for (const auto& [id, delta] : least_norm_change(rows, E)) {
     if (delta.isZero(0.0)) continue;
-    const Index3 ijk = lattice.index(flat);
-    lattice.move_point(ijk, lattice.point(ijk) + delta);
-    ++result.points_changed;
+    ids.push_back(id);
+    deltas.push_back(delta);
   }
+  const Eigen::Matrix3Xd now = deformer.points(level, ids);
+  std::vector<Eigen::Vector3d> targets;
+  for (std::size_t i = 0; i < ids.size(); ++i) targets.push_back(now.col(static_cast<Eigen::Index>(i)) + deltas[i]);
+  const MoveReport report = deformer.move_points(level, ids, targets);
+  if (moved) *moved = report;
+  result.points_changed = ids.size();
   double sum = 0;
   for (std::size_t i = 0; i < m; ++i) {
-    const double r = (lattice.apply(at[i], nullptr) - to[i]).norm();
+    const double r = (deformer.apply(at[i], nullptr) - to[i]).norm();
     result.max_residual = std::max(result.max_residual, r);
     sum += r * r;
   }
-  result.rms_residual = m ? std::sqrt(sum / m) : 0.0;
+  result.rms_residual = m ? std::sqrt(sum / static_cast<double>(m)) : 0.0;
   return result;
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/numbers.h"
+
 namespace ffd {
 namespace {
 
@@ -204,6 +206,58 @@ double Lattice::feature_size() const {
     if (axis == 0 || cell < smallest) smallest = cell;
   }
   return smallest;
+}
+
+}  // namespace ffd
+
+namespace ffd {
+
+Eigen::Matrix3Xd Lattice::points(int) const {
+  Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(num_points()));
+  for (std::size_t f = 0; f < num_points(); ++f) out.col(static_cast<Eigen::Index>(f)) = point(index(f));
+  return out;
+}
+
+Eigen::Matrix3Xd Lattice::points(int, const std::vector<std::size_t>& ids) const {
+  Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(ids.size()));
+  for (std::size_t i = 0; i < ids.size(); ++i) out.col(static_cast<Eigen::Index>(i)) = point(index(ids[i]));
+  return out;
+}
+
+std::optional<std::size_t> Lattice::find_point(int, const PointIndex& index) const {
+  if (!index.grid || !in_range(index.ijk) || !movable(index.ijk)) return std::nullopt;
+  return flat(index.ijk);
+}
+
+std::string Lattice::missing_point(int, const PointIndex& index) const {
+  if (!index.grid) return "expected a lattice index [i, j, k]";
+  return "point " + index.text() + " is not movable (movable: " + movable_range() + ")";
+}
+
+MoveReport Lattice::move_points(int, const std::vector<std::size_t>& ids, const std::vector<Eigen::Vector3d>& targets) {
+  for (std::size_t i = 0; i < ids.size(); ++i) move_point(index(ids[i]), targets[i]);
+  MoveReport report;
+  report.points_moved = ids.size();
+  return report;
+}
+
+std::vector<std::array<std::uint32_t, 2>> Lattice::net_edges(int) const {
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  for (std::size_t f = 0; f < num_points(); ++f) {
+    const Index3 ijk = index(f);
+    for (int axis = 0; axis < 3; ++axis) {
+      Index3 next = ijk;
+      ++next[axis];
+      if (in_range(next)) edges.push_back({static_cast<std::uint32_t>(f), static_cast<std::uint32_t>(flat(next))});
+    }
+  }
+  return edges;
+}
+
+std::string Lattice::tearing_warning(const std::string& name, std::size_t outside) const {
+  return "lattice '" + name + "' moved points on its box's faces while " + format_count(outside) +
+         " vertices lie outside the box: a Bernstein lattice tears the mesh there "
+         "(use basis \"bspline\", or move only interior points)";
 }
 
 }  // namespace ffd

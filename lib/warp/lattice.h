@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "warp/deformer.h"
 #include "warp/parallelepiped.h"
-#include "warp/warp.h"
 
 namespace ffd {
 
@@ -26,7 +26,7 @@ using Index3 = std::array<int, 3>;
 /// Tolerance, in box coordinates, within which a point outside the box counts as inside.
 constexpr double kBoxTolerance = 1e-9;
 
-class Lattice : public Warp {
+class Lattice : public Deformer {
 public:
   enum class Basis { Bernstein, BSpline };
 
@@ -66,8 +66,29 @@ public:
   /// tears where the mesh leaves the box.
   bool boundary_moved() const;
 
-  /// The basis weights at x of the movable points with non-zero weight: (flat, weight).
-  void movable_weights(const Eigen::Vector3d& x, std::vector<std::pair<std::size_t, double>>& out) const;
+  /// The basis weights at x of the movable points with non-zero weight: (flat, weight),
+  /// flat indices ascending.
+  void movable_weights(const Eigen::Vector3d& x, PointWeights& out) const;
+
+  // Deformer: one level, ids are flat indices (every point, border points included).
+  std::string kind() const override { return basis() == Basis::Bernstein ? "bernstein" : "bspline"; }
+  std::size_t num_points(int) const override { return num_points(); }
+  Eigen::Matrix3Xd points(int level) const override;
+  Eigen::Matrix3Xd points(int level, const std::vector<std::size_t>& ids) const override;
+  bool point_movable(int, std::size_t id) const override { return movable(index(id)); }
+  std::optional<std::size_t> find_point(int level, const PointIndex& index) const override;
+  std::string missing_point(int level, const PointIndex& index) const override;
+  PointIndex point_index(int, std::size_t id) const override { return {true, index(id), 0}; }
+  std::string movable_text(int) const override { return movable_range(); }
+  MoveReport move_points(int level, const std::vector<std::size_t>& ids,
+                         const std::vector<Eigen::Vector3d>& targets) override;
+  void movable_weights(int, const Eigen::Vector3d& x, PointWeights& out) const override { movable_weights(x, out); }
+  /// Neighbours along each axis, (f, next) in flat order of f, then axis.
+  std::vector<std::array<std::uint32_t, 2>> net_edges(int level) const override;
+  double scale() const override { return box_.extents().norm(); }
+  bool tears() const override { return boundary_continuity() < 0; }
+  bool in_support(const Eigen::Vector3d& x) const override { return inside(box_.to_local(x)); }
+  std::string tearing_warning(const std::string& name, std::size_t outside) const override;
 
   // Warp
   Eigen::Vector3d apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const override;
