@@ -6,7 +6,11 @@ Prints one line per violation, `file:line: what`, and exits 1 if there is any.
 Rules:
   nlohmann-include  no #include of <nlohmann/...> in lib/ outside lib/script: algorithms
                     take options structs and never see JSON (docs/architecture.md, "Typed steps").
+                    lib/batch writes JSON logs (the results log, the report) and may too;
                     apps/ and tests/ may use JSON.
+  layer-include     a folder of lib/ includes only itself and the folders below it (LAYERS,
+                    docs/architecture.md "Layers"); lib/CMakeLists.txt's layer checks
+                    enforce the same at link time.
   json-pointer      no JSON-pointer string literal ("/support", "/k": a "/" and then a
                     lowercase letter or underscore) in the code of the algorithm folders
                     (POINTER_DIRS); the script layer adds the place. Comments do not count,
@@ -32,7 +36,19 @@ SCAN_DIRS = ("lib", "apps")  # every rule's folders lie inside these
 FUNCTION_DIRS = ("lib", "apps")
 NLOHMANN_DIRS = ("lib",)
 # The glTF writer edits glTF JSON itself (a file format that is JSON, not a script).
-NLOHMANN_EXEMPT = ("lib/script", "lib/mesh/gltf_write.cpp")
+NLOHMANN_EXEMPT = ("lib/script", "lib/batch", "lib/mesh/gltf_write.cpp")
+# Each folder of lib/ and the folders it may include (besides itself).
+LAYERS = {
+    "common": set(),
+    "mesh": {"common"},
+    "warp": {"common", "mesh"},
+    "multires": {"common", "mesh", "warp"},
+    "bcm": {"common", "mesh"},
+    "remesh": {"common", "mesh", "warp"},
+    "render": {"common", "mesh", "warp", "remesh"},
+    "script": {"common", "mesh", "warp", "multires", "bcm", "remesh", "render"},
+    "batch": {"common", "mesh", "warp", "multires", "bcm", "remesh", "render", "script"},
+}
 POINTER_DIRS = ("lib/common", "lib/mesh", "lib/warp", "lib/remesh", "lib/bcm", "lib/multires")
 FILESYSTEM_PREFIXES = ("/proc/", "/dev/", "/tmp/", "/usr/", "/etc/", "/sys/", "/var/", "/opt/", "/home/")
 
@@ -288,6 +304,20 @@ def check_includes(rel, code, literals):
             yield f"{rel}:{k}: includes nlohmann outside lib/script (algorithms never see JSON)"
 
 
+def check_layers(rel, code, literals):
+    """layer-include: #include "folder/..." of a folder that is not below rel's."""
+    parts = rel.split("/")
+    if len(parts) < 3 or parts[0] != "lib" or parts[1] not in LAYERS:
+        return
+    lines = code.split("\n")
+    for ln, content in literals:
+        folder = content.split("/")[0]
+        if not re.match(r"\s*#\s*include\s*\"\"", lines[ln - 1]) or folder not in LAYERS:
+            continue
+        if folder != parts[1] and folder not in LAYERS[parts[1]]:
+            yield f"{rel}:{ln}: lib/{parts[1]} includes {content}, a folder above it (docs/architecture.md, Layers)"
+
+
 def check_pointers(rel, literals, used):
     """json-pointer: string literals that look like a JSON pointer."""
     allowed = [d for d in JSON_POINTER_ALLOWLIST if under(rel, (d,))]
@@ -321,6 +351,7 @@ def lint(root):
             code, literals = strip_source(f.read())
         if under(rel, NLOHMANN_DIRS) and not under(rel, NLOHMANN_EXEMPT):
             violations += check_includes(rel, code, literals)
+        violations += check_layers(rel, code, literals)
         if under(rel, POINTER_DIRS):
             violations += check_pointers(rel, literals, used)
         if under(rel, FUNCTION_DIRS):

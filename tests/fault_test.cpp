@@ -26,7 +26,7 @@
 
 #include "common/atomic_file.h"
 #include "common/errors.h"
-#include "script/results_log.h"
+#include "batch/results_log.h"
 #include "test_meshes.h"
 
 namespace ffd {

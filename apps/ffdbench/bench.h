@@ -50,6 +50,13 @@ Mesh subdivided(const Mesh& mesh, std::size_t min_vertices);
 /// them). The io and pictures suites' grid mesh.
 PolygonSoup height_field(int n);
 
+/// The last non-empty line of a child's output (its error line).
+std::string last_line(const std::string& text);
+
+/// The executable the suites run as ffdtool: `configured`, or the ffdtool next to this
+/// binary (<dir of /proc/self/exe>/../ffdtool/ffdtool). \throw InputError if missing.
+std::string ffdtool_path(const std::string& configured);
+
 /// MB/s (MB = 10^6 bytes) of `bytes` in `ms`.
 double mb_per_s(double bytes, double ms);
 
@@ -81,5 +88,6 @@ void bench_cholesky(Context& ctx);
 void bench_io(Context& ctx);
 void bench_pictures(Context& ctx);
 void bench_multires(Context& ctx);
+void bench_seam(Context& ctx);
 
 }  // namespace ffd::bench

@@ -237,14 +237,6 @@ json file_row(const Format& f, const Mesh& mesh, const TempFolder& dir, int repe
 }
 
 /// The last non-empty line of `text`, for error messages.
-std::string last_line(const std::string& text) {
-  std::istringstream is(text);
-  std::string line, last;
-  while (std::getline(is, line))
-    if (!line.empty()) last = line;
-  return last;
-}
-
 /// `argv` run `warmups` + `repeats` times; the runs after the warm-ups, or the first
 /// failed one alone.
 std::vector<ChildRun> run_repeated(const std::vector<std::string>& argv, const TempFolder& dir,
@@ -267,20 +259,6 @@ void child_medians(const std::vector<ChildRun>& runs, double& ms, double& peak_b
   }
   ms = median(times);
   peak_bytes = median(peaks);
-}
-
-/// The executable the io suite runs as ffdtool: `configured`, or the ffdtool next to
-/// this binary (<dir of /proc/self/exe>/../ffdtool/ffdtool). \throw InputError if missing.
-std::string ffdtool_path(const std::string& configured) {
-  std::string path = configured;
-  if (path.empty()) {
-    std::error_code ec;
-    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-    path = (self.parent_path() / ".." / "ffdtool" / "ffdtool").lexically_normal().string();
-  }
-  if (::access(path.c_str(), X_OK) != 0)
-    throw InputError(path + ": no ffdtool there (build it with scripts/build.sh, or pass --ffdtool PATH)");
-  return path;
 }
 
 /// The Blender the io suite runs: `configured` (\throw InputError if it is not an

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 #include "bench.h"
 #include "common/errors.h"
@@ -71,6 +72,26 @@ PolygonSoup height_field(int n) {
 }
 
 double mb_per_s(double bytes, double ms) { return bytes / 1e3 / ms; }
+
+std::string last_line(const std::string& text) {
+  std::istringstream is(text);
+  std::string line, last;
+  while (std::getline(is, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+std::string ffdtool_path(const std::string& configured) {
+  std::string path = configured;
+  if (path.empty()) {
+    std::error_code ec;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    path = (self.parent_path() / ".." / "ffdtool" / "ffdtool").lexically_normal().string();
+  }
+  if (::access(path.c_str(), X_OK) != 0)
+    throw InputError(path + ": no ffdtool there (build it with scripts/build.sh, or pass --ffdtool PATH)");
+  return path;
+}
 
 TempFolder::TempFolder(const std::string& suite)
     : path(std::filesystem::temp_directory_path() / ("ffdbench-" + suite + "-" + std::to_string(::getpid()))) {

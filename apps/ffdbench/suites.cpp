@@ -14,6 +14,9 @@ const std::vector<Suite>& suites() {
        bench_pictures},
       {"multires", "octree multiresolution lattices: Catmull-Clark memory and per-move time against Ono et al.'s tables and a cubic B-spline move",
        bench_multires},
+      {"seam", "the Deformer seam: dx/dp of a 1M-vertex mesh against the same run's move step; lib/script's lines, "
+               "kind branches and upward includes",
+       bench_seam},
   };
   return all;
 }

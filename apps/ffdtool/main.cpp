@@ -8,7 +8,7 @@
 #include <iostream>
 
 #include "batch/batch.h"
-#include "script/batch_report.h"
+#include "batch/batch_report.h"
 #include "common/errors.h"
 #include "common/numbers.h"
 #include "mesh/mesh_compare.h"

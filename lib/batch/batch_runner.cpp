@@ -14,7 +14,7 @@
 #include <thread>
 
 #include "batch/child_process.h"
-#include "script/results_log.h"
+#include "batch/results_log.h"
 #include "batch/sha256.h"
 #include "common/errors.h"
 #include "common/numbers.h"

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <system_error>
 
 namespace ffd {
@@ -22,6 +23,12 @@ std::string format_number(double x) {
   std::string s;
   append_number(s, x);
   return s;
+}
+
+std::string format_ms(double ms) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, ms < 1 ? "%.3f ms" : "%.1f ms", ms);
+  return buf;
 }
 
 std::string format_count(std::size_t n) {

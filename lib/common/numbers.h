@@ -21,6 +21,9 @@ char* format_number_to(char* first, double x);
 /// The shortest round-trip text of x.
 std::string format_number(double x);
 
+/// A duration for people: "0.153 ms" below a millisecond, "12.5 ms" above.
+std::string format_ms(double ms);
+
 /// n with thousands separators: 1234567 -> "1,234,567", for human-readable summaries.
 std::string format_count(std::size_t n);
 

@@ -150,8 +150,8 @@ void BcmStep::report(const BcmData& bcm, std::size_t support_size, StepContext& 
   ctx.summary = "bcm '" + name + "': k=" + std::to_string(used.k) + " " + laplacian +
                 (used.detail ? " with detail" : "") + ", " + format_count(s.free_vertices) + " free / " +
                 format_count(s.handle_vertices) + " handle / " + format_count(s.fixed_vertices) +
-                " fixed vertices; factorized in " + ms_text(s.factor_ms) + " (" + s.solver + "), basis in " +
-                ms_text(s.basis_ms);
+                " fixed vertices; factorized in " + format_ms(s.factor_ms) + " (" + s.solver + "), basis in " +
+                format_ms(s.basis_ms);
 }
 
 }  // namespace

@@ -185,7 +185,7 @@ void TransformStep::report(const SurfaceEditor& target, std::size_t h, double up
   ctx.stats["update_ms"] = update_ms;
   ctx.stats["saved"] = saved;
   ctx.summary = "transform '" + editor + "' handle '" + target.bcm.names.at(h) + "': " + format_count(count) +
-                (count == 1 ? " frame, " : " frames, ") + ms_text(per_frame) + " per frame, " +
+                (count == 1 ? " frame, " : " frames, ") + format_ms(per_frame) + " per frame, " +
                 format_count(target.moved.size()) + " vertices moved" +
                 (saved.empty() ? std::string()
                                : ", saved " + saved.front().get<std::string>() +

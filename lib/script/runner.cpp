@@ -85,12 +85,6 @@ void warn_if_gltf_flattened(const RunOptions& options, Scene& scene, bool from_g
   if (!options.quiet) std::fprintf(stderr, "  warning: %s\n", scene.warnings.back().c_str());
 }
 
-std::string ms_text(double ms) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f ms", ms);
-  return buf;
-}
-
 // The stats' header: tool, build, threads and the input.
 nlohmann::ordered_json input_stats(const RunOptions& options, const Mesh& mesh, double read_ms) {
   nlohmann::ordered_json stats;
@@ -133,7 +127,7 @@ nlohmann::ordered_json run_steps(const Script& script, Scene& scene, const RunOp
     entry.update(ctx.stats);
     steps.push_back(entry);
     if (quiet) continue;
-    std::fprintf(stderr, "  [%zu] %s (%s)\n", i, ctx.summary.c_str(), ms_text(ms).c_str());
+    std::fprintf(stderr, "  [%zu] %s (%s)\n", i, ctx.summary.c_str(), format_ms(ms).c_str());
     for (std::size_t w = warnings_before; w < scene.warnings.size(); ++w)
       std::fprintf(stderr, "  warning: %s\n", scene.warnings[w].c_str());
   }
@@ -178,7 +172,7 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
   if (!options.quiet)
     std::fprintf(stderr, "ffdtool: %s: %s vertices, %s faces (read in %s)\n", options.mesh.c_str(),
                  format_count(scene.mesh.num_vertices()).c_str(), format_count(scene.mesh.num_faces()).c_str(),
-                 ms_text(stats["input"]["read_ms"].get<double>()).c_str());
+                 format_ms(stats["input"]["read_ms"].get<double>()).c_str());
   const bool from_gltf = gltf_notes(options, scene);
   stats["steps"] = run_steps(script, scene, options);
 
@@ -201,7 +195,7 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
   if (!options.quiet)
     std::fprintf(stderr, "ffdtool: wrote %s: %s vertices, %s faces; steps %s, total %s\n", options.output.c_str(),
                  format_count(scene.mesh.num_vertices()).c_str(), format_count(scene.mesh.num_faces()).c_str(),
-                 ms_text(steps_ms).c_str(), ms_text(total.ms()).c_str());
+                 format_ms(steps_ms).c_str(), format_ms(total.ms()).c_str());
   return stats;
 }
 

@@ -80,10 +80,4 @@ void warn_baked(Scene& scene, const nlohmann::ordered_json& baked, const StepCon
                            (names.size() == 1 ? "it" : "them"));
 }
 
-std::string ms_text(double ms) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, ms < 1 ? "%.3f ms" : "%.1f ms", ms);
-  return buf;
-}
-
 }  // namespace ffd

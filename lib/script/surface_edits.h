@@ -42,7 +42,5 @@ nlohmann::ordered_json bake_stack(Scene& scene, const std::string& pointer);
 void warn_baked(Scene& scene, const nlohmann::ordered_json& baked, const StepContext& ctx);
 /// "'a', 'b', 'c'".
 std::string quoted_list(const std::vector<std::string>& names);
-/// "0.153 ms" below a millisecond, "12.5 ms" above.
-std::string ms_text(double ms);
 
 }  // namespace ffd

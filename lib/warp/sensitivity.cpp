@@ -9,8 +9,8 @@ namespace ffd {
 namespace {
 
 constexpr std::uint32_t kNone = UINT32_MAX;
-constexpr std::size_t kBatch = 1 << 16;  // vertices whose rows are gathered at once
-constexpr std::size_t kChunk = 1 << 10;  // vertices formatted by one thread
+constexpr std::size_t kBatch = 1 << 13;  // vertices whose rows are gathered (and texts held) at once
+constexpr std::size_t kChunk = 1 << 9;   // vertices formatted by one thread
 
 /// Where each vertex's rows come from: the deformer's weights at its input position, the
 /// columns of the movable points, and the inputs of the warps after the deformer.

@@ -1,9 +1,9 @@
-#include "script/batch_report.h"
+#include "batch/batch_report.h"
 
 #include <algorithm>
 #include <cstdio>
 
-#include "script/results_log.h"
+#include "batch/results_log.h"
 #include "common/errors.h"
 #include "common/numbers.h"
 

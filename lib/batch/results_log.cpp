@@ -1,4 +1,4 @@
-#include "script/results_log.h"
+#include "batch/results_log.h"
 
 #include <fcntl.h>
 #include <unistd.h>
