@@ -319,12 +319,13 @@ RemeshRun remesh_up_and_down(std::vector<double>* fractions) {
   RemeshRun run;
   move({3, 2, 2}, lattice->point({3, 2, 2}) + Eigen::Vector3d(0.1, 0, 0.4));
   move({3, 4, 2}, lattice->point({3, 4, 2}) + Eigen::Vector3d(-0.1, 0.05, -0.3));
-  run.up = adaptive_remesh(mesh, stack, options, callback);
+  HalfedgeCache cache;
+  run.up = adaptive_remesh(mesh, cache, stack, options, callback);
   run.faces_up = mesh.faces();
   run.positions_up = mesh.positions();
   run.normals_up = mesh.normals();
   for (const Index3& p : {Index3{3, 2, 2}, Index3{3, 4, 2}}) move(p, lattice->rest_point(p));
-  run.down = adaptive_remesh(mesh, stack, options, callback);
+  run.down = adaptive_remesh(mesh, cache, stack, options, callback);
   run.faces_down = mesh.faces();
   run.positions_down = mesh.positions();
   return run;

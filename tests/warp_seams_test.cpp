@@ -218,12 +218,13 @@ TEST(WarpSeams, RemeshLeavesOnlyTheDeclaredAttributes) {
   stack.update(mesh, "a");
   stack.update(mesh, "b");
 
-  const std::vector<std::string> names = mesh.attribute_names();
+  HalfedgeCache cache;
+  const std::vector<std::string> names = attribute_names(mesh, cache);
   const std::set<std::string> allowed = declared_after_remesh(mesh, {names.begin(), names.end()});
-  const RemeshStats stats = adaptive_remesh(mesh, stack, RemeshOptions{});
+  const RemeshStats stats = adaptive_remesh(mesh, cache, stack, RemeshOptions{});
   ASSERT_GT(stats.triangulated_faces, 0u);
   ASSERT_GT(stats.refinements, 0u);
-  const std::vector<std::string> after = mesh.attribute_names();
+  const std::vector<std::string> after = attribute_names(mesh, cache);
   expect_only(after, allowed);
   for (const char* n : {mesh_attribute::kVertexLevel, mesh_attribute::kEdgeLevel, "view f:start"})
     EXPECT_TRUE(std::count(after.begin(), after.end(), n)) << n;
@@ -233,9 +234,9 @@ TEST(WarpSeams, RemeshLeavesOnlyTheDeclaredAttributes) {
   b->move_point({1, 2, 1}, b->rest_point({1, 2, 1}));
   stack.update(mesh, "a");
   stack.update(mesh, "b");
-  const RemeshStats back = adaptive_remesh(mesh, stack, RemeshOptions{});
+  const RemeshStats back = adaptive_remesh(mesh, cache, stack, RemeshOptions{});
   EXPECT_EQ(back.decimations, stats.refinements);
-  expect_only(mesh.attribute_names(), allowed);
+  expect_only(attribute_names(mesh, cache), allowed);
   const std::vector<int> levels = vertex_levels(mesh);
   EXPECT_EQ(*std::max_element(levels.begin(), levels.end()), 0);
 }

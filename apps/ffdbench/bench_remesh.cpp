@@ -185,7 +185,8 @@ void adaptive_row(const QualityCase& c, const RemeshOptions& options, const std:
                   std::vector<AdaptivePoint>& points) {
   Mesh a = c.input.clone();
   auto stack = deform(a, c.box, c.deformation);
-  const RemeshStats stats = adaptive_remesh(a, *stack, options);
+  HalfedgeCache cache;
+  const RemeshStats stats = adaptive_remesh(a, cache, *stack, options);
   methods.push_back(error_row(label, a, c.truth, c.to_truth, c.diag));
   methods.back()["refinements"] = stats.refinements;
   methods.back()["max_level_hits"] = stats.max_level_hits;
@@ -298,20 +299,22 @@ json speed(Context& ctx, const Mesh& input, const std::string& name) {
     extrude(*lattice);
     stack.update(mesh, "l");
     update_ms = clock.ms();
-    step_stats = adaptive_remesh(mesh, stack, RemeshOptions{});
+    HalfedgeCache cache;
+    step_stats = adaptive_remesh(mesh, cache, stack, RemeshOptions{});
   });
   const double uniform_ms = median_ms(ctx.repeats, [&] { midpoint_subdivision(input); });
   // Decimation speed: flatten what the extrusion refined.
   Mesh mesh = input.clone();
   auto stack = deform(mesh, box, {"extrude", extrude});
-  adaptive_remesh(mesh, *stack, RemeshOptions{});
+  HalfedgeCache cache;
+  adaptive_remesh(mesh, cache, *stack, RemeshOptions{});
   auto* lattice = dynamic_cast<BSplineLattice*>(&stack->warp(0));
   for (std::size_t f = 0; f < lattice->num_points(); ++f) {
     const Index3 ijk = lattice->index(f);
     if (lattice->movable(ijk)) lattice->move_point(ijk, lattice->rest_point(ijk));
   }
   stack->update(mesh, "l");
-  const RemeshStats back = adaptive_remesh(mesh, *stack, RemeshOptions{});
+  const RemeshStats back = adaptive_remesh(mesh, cache, *stack, RemeshOptions{});
 
   // Level bookkeeping: one byte per vertex (level), one per edge (level), four per face
   // (the first vertex, so unwound faces come back as written).

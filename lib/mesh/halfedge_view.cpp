@@ -1,6 +1,8 @@
 #include "mesh/halfedge_view.h"
 
 #include <algorithm>
+#include <cstring>
+#include <type_traits>
 
 #include "common/errors.h"
 #include "mesh/build_mesh.h"
@@ -41,12 +43,14 @@ void HalfedgeView::bind() {
   vertex_level = sm.property_map<VertexIndex, RefinementLevel>(mesh_attribute::kVertexLevel).first;
   edge_level = sm.property_map<EdgeIndex, RefinementLevel>(mesh_attribute::kEdgeLevel).first;
   start = sm.property_map<FaceIndex, std::uint32_t>(mesh_attribute::kFaceStart).first;
-  if (has_colors) color = sm.property_map<VertexIndex, Eigen::Vector3f>("v:color").first;
+  const auto colors = sm.property_map<VertexIndex, Eigen::Vector3f>("v:color");
+  has_colors = colors.second;
+  if (has_colors) color = colors.first;
 }
 
 void HalfedgeView::enable_colors() {
   if (has_colors) return;
-  color = sm.add_property_map<VertexIndex, Eigen::Vector3f>("v:color", Eigen::Vector3f(0.8f, 0.8f, 0.8f)).first;
+  color = sm.add_property_map<VertexIndex, Eigen::Vector3f>("v:color", kDefaultColor).first;
   has_colors = true;
 }
 
@@ -60,7 +64,30 @@ Vec3Property HalfedgeView::vec3_attribute(const std::string& name) {
   return sm.add_property_map<VertexIndex, Eigen::Vector3d>(kAttributePrefix + name, Eigen::Vector3d::Zero()).first;
 }
 
-std::shared_ptr<HalfedgeView> copy_view(const HalfedgeView& view) { return std::make_shared<HalfedgeView>(view); }
+HalfedgeCache::HalfedgeCache() = default;
+HalfedgeCache::~HalfedgeCache() = default;
+HalfedgeCache::HalfedgeCache(HalfedgeCache&&) noexcept = default;
+HalfedgeCache& HalfedgeCache::operator=(HalfedgeCache&&) noexcept = default;
+
+HalfedgeCache HalfedgeCache::clone() const {
+  HalfedgeCache copy;
+  if (view_) copy.view_ = std::make_shared<HalfedgeView>(*view_);
+  copy.version_ = version_;
+  return copy;
+}
+
+void HalfedgeCache::keep(std::shared_ptr<HalfedgeView> view, const Mesh& mesh) {
+  view_ = std::move(view);
+  version_ = mesh.topology_version();
+}
+
+std::vector<std::string> attribute_names(const Mesh& mesh, const HalfedgeCache& cache) {
+  std::vector<std::string> names = mesh.attribute_names();
+  if (cache.view())
+    for (const std::string& n : view_property_names(*cache.view())) names.push_back("view " + n);
+  std::sort(names.begin(), names.end());
+  return names;
+}
 
 std::vector<std::string> view_property_names(const HalfedgeView& view) {
   std::vector<std::string> names;
@@ -81,22 +108,57 @@ HalfedgeIndex corner_at(const SurfaceMesh& sm, FaceIndex f, std::uint32_t v) {
   return sm.halfedge(f);
 }
 
-// Copies the mesh's per-vertex arrays into the view.
+constexpr char kPoints[] = "v:point";  // the view's points: its current positions
+
+Eigen::Vector3d element(const Eigen::Matrix3Xd& m, Eigen::Index i) { return m.col(i); }
+template <class T>
+const T& element(const std::vector<T>& v, Eigen::Index i) {
+  return v[static_cast<std::size_t>(i)];
+}
+void set_element(Eigen::Matrix3Xd& m, Eigen::Index i, const Eigen::Vector3d& x) { m.col(i) = x; }
+template <class T>
+void set_element(std::vector<T>& v, Eigen::Index i, const T& x) {
+  v[static_cast<std::size_t>(i)] = x;
+}
+
+// One declared per-vertex array into the view's property of its name (created with the
+// array's default if missing); an empty optional array sets the default where the view
+// has the property, and adds none.
+template <class S, class V>
+void array_to_view(const Mesh& mesh, const VertexArray<S, V>& a, SurfaceMesh& sm) {
+  const S& array = mesh.*a.member;
+  if constexpr (std::is_same_v<V, Eigen::Vector3d>)
+    if (std::strcmp(a.name, kPoints) == 0) {
+      for (VertexIndex v : sm.vertices()) sm.point(v) = to_point(element(array, v.idx()));
+      return;
+    }
+  const bool absent = a.optional && array.size() == 0;
+  if (absent && !sm.property_map<VertexIndex, V>(a.name).second) return;
+  auto map = sm.add_property_map<VertexIndex, V>(a.name, a.fallback).first;
+  for (VertexIndex v : sm.vertices()) map[v] = absent ? a.fallback : V(element(array, v.idx()));
+}
+
+// The view's property back into the declared array (sized to the view's vertices).
+template <class S, class V>
+void array_from_view(const SurfaceMesh& sm, const VertexArray<S, V>& a, Mesh& mesh) {
+  S& array = mesh.*a.member;
+  if constexpr (std::is_same_v<V, Eigen::Vector3d>)
+    if (std::strcmp(a.name, kPoints) == 0) {
+      for (VertexIndex v : sm.vertices()) set_element(array, v.idx(), to_eigen(sm.point(v)));
+      return;
+    }
+  const auto map = sm.property_map<VertexIndex, V>(a.name);
+  if (!map.second) return;  // an optional array the view does not have
+  if constexpr (!std::is_same_v<S, Eigen::Matrix3Xd>) array.resize(sm.number_of_vertices(), a.fallback);
+  for (VertexIndex v : sm.vertices()) set_element(array, v.idx(), map.first[v]);
+}
+
+// Copies the mesh's per-vertex arrays into the view: the declared ones, then the vec3
+// attributes (dropping the view's copies of attributes the mesh no longer has).
 void sync_vertices(const Mesh& mesh, HalfedgeView& view) {
   SurfaceMesh& sm = view.sm;
-  const ConstVec3Array p = mesh.positions(), r = mesh.rest_positions(), rn = mesh.rest_normals(), n = mesh.normals();
-  for (VertexIndex v : sm.vertices()) {
-    const Eigen::Index i = v.idx();
-    sm.point(v) = to_point(p.col(i));
-    view.rest[v] = r.col(i);
-    view.rest_normal[v] = rn.col(i);
-    view.normal[v] = n.col(i);
-    view.vertex_level[v] = mesh.vertex_levels().empty() ? 0 : mesh.vertex_levels()[v.idx()];
-  }
-  if (mesh.has_colors()) {
-    view.enable_colors();
-    for (VertexIndex v : sm.vertices()) view.color[v] = mesh.colors()[v.idx()];
-  }
+  Mesh::for_each_vertex_array([&](const auto& a) { array_to_view(mesh, a, sm); });
+  view.bind();
   std::vector<std::string> stale;
   for (const std::string& name : sm.properties<VertexIndex>())
     if (name.rfind(kAttributePrefix, 0) == 0 && !mesh.has_vec3_attribute(name.substr(sizeof kAttributePrefix - 1)))
@@ -167,8 +229,9 @@ std::shared_ptr<HalfedgeView> build_view(const Mesh& mesh) {
 
 // True when the cached view still matches the mesh's connectivity: same counts, and each
 // face's first corner is its element's first vertex.
-bool cache_matches(const HalfedgeView* view, const Mesh& mesh) {
-  if (!view || mesh.cached_view_version() != mesh.topology_version()) return false;
+bool cache_matches(const HalfedgeCache& cache, const Mesh& mesh) {
+  if (!cache.valid_for(mesh)) return false;
+  const HalfedgeView* view = cache.view();
   const SurfaceMesh& sm = view->sm;
   if (sm.number_of_vertices() != mesh.num_vertices() || sm.number_of_faces() != mesh.num_faces() ||
       sm.has_garbage() || view->face_element.size() != sm.number_of_faces())
@@ -184,16 +247,15 @@ bool cache_matches(const HalfedgeView* view, const Mesh& mesh) {
 
 }  // namespace
 
-HalfedgeView& halfedge_view(Mesh& mesh) {
-  const bool valid = cache_matches(mesh.cached_view(), mesh);
-  if (!valid) {
+HalfedgeView& halfedge_view(Mesh& mesh, HalfedgeCache& cache) {
+  if (!cache_matches(cache, mesh)) {
     check_two_manifold(mesh);
-    mesh.set_cached_view(build_view(mesh));
+    cache.keep(build_view(mesh), mesh);
   }
-  HalfedgeView& view = *mesh.cached_view();
+  HalfedgeView& view = *cache.view();
   sync_vertices(mesh, view);
   sync_faces(mesh, view);
-  mesh.invalidate_cached_view();  // until write_back: the op changes it
+  cache.invalidate();  // until write_back: the op changes it
   return view;
 }
 
@@ -203,18 +265,7 @@ namespace {
 void write_vertices(const HalfedgeView& view, Mesh& mesh) {
   const SurfaceMesh& sm = view.sm;
   mesh.resize_vertices(sm.number_of_vertices());
-  Vec3Array p = mesh.positions(), r = mesh.rest_positions(), rn = mesh.rest_normals(), n = mesh.normals();
-  mesh.vertex_levels().assign(sm.number_of_vertices(), 0);
-  for (VertexIndex v : sm.vertices()) {
-    const Eigen::Index i = v.idx();
-    p.col(i) = to_eigen(sm.point(v));
-    r.col(i) = view.rest[v];
-    rn.col(i) = view.rest_normal[v];
-    n.col(i) = view.normal[v];
-    mesh.vertex_levels()[v.idx()] = view.vertex_level[v];
-  }
-  if (view.has_colors)
-    for (VertexIndex v : sm.vertices()) mesh.colors()[v.idx()] = view.color[v];
+  Mesh::for_each_vertex_array([&](const auto& a) { array_from_view(sm, a, mesh); });
   for (const std::string& name : mesh.vec3_attribute_names()) {
     const auto map = sm.property_map<VertexIndex, Eigen::Vector3d>(kAttributePrefix + name);
     if (!map.second) continue;
@@ -277,13 +328,13 @@ MeshElements merged_elements(HalfedgeView& view, const Mesh& mesh) {
 
 }  // namespace
 
-void write_back(HalfedgeView& view, Mesh& mesh, bool connectivity_changed) {
+void write_back(HalfedgeView& view, Mesh& mesh, bool connectivity_changed, HalfedgeCache& cache) {
   write_vertices(view, mesh);
   if (connectivity_changed) {
     mesh.set_elements(merged_elements(view, mesh));
     mesh.mark_topology_changed();
   }
-  mesh.revalidate_cached_view();
+  cache.revalidate(mesh);
 }
 
 SurfaceMesh surface_mesh(const Mesh& mesh) {

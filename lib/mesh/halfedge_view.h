@@ -24,10 +24,39 @@ struct HalfedgeView;
 /// from Mesh::source()) and what is wrong.
 void check_two_manifold(const Mesh& mesh);
 
-/// A deep copy of a view (for Mesh::clone).
-std::shared_ptr<HalfedgeView> copy_view(const HalfedgeView& view);
+/// The halfedge view that the last op which built one for a mesh left (remesh), kept so
+/// that consecutive ops see the same halfedge and edge numbering; valid while the mesh's
+/// connectivity is as that op left it. Whoever runs the ops keeps it beside the mesh
+/// (Scene::halfedges); halfedge_view() and write_back() (halfedge_view_cgal.h) use it.
+class HalfedgeCache {
+public:
+  HalfedgeCache();
+  ~HalfedgeCache();
+  HalfedgeCache(HalfedgeCache&&) noexcept;
+  HalfedgeCache& operator=(HalfedgeCache&&) noexcept;
+  /// A deep copy (the view's property maps bound to the copy).
+  HalfedgeCache clone() const;
 
-/// The names of a view's properties, sorted (for Mesh::attribute_names).
+  /// The kept view, or null.
+  HalfedgeView* view() const { return view_.get(); }
+  /// Whether the view is up to date with `mesh`'s connectivity (its topology version).
+  bool valid_for(const Mesh& mesh) const { return view_ && version_ == mesh.topology_version(); }
+  /// Keeps `view` as up to date with `mesh`.
+  void keep(std::shared_ptr<HalfedgeView> view, const Mesh& mesh);
+  /// Marks the view stale (an op is changing it), or up to date with `mesh` again.
+  void invalidate() { version_ = ~std::uint64_t(0); }
+  void revalidate(const Mesh& mesh) { version_ = mesh.topology_version(); }
+
+private:
+  std::shared_ptr<HalfedgeView> view_;
+  std::uint64_t version_ = ~std::uint64_t(0);
+};
+
+/// The names of a view's properties, sorted.
 std::vector<std::string> view_property_names(const HalfedgeView& view);
+
+/// Mesh::attribute_names() and the kept view's properties as "view NAME", sorted: every
+/// attribute a mesh and its cache carry besides the file's data.
+std::vector<std::string> attribute_names(const Mesh& mesh, const HalfedgeCache& cache);
 
 }  // namespace ffd

@@ -67,7 +67,8 @@ struct HalfedgeView {
   bool has_colors = false;
   std::vector<std::uint32_t> face_element;  // the mesh element of each face
 
-  /// Binds the property maps by name (after construction or a copy).
+  /// Binds the property maps by name (after construction, a copy or a sync); has_colors
+  /// says whether the colour map exists.
   void bind();
   /// Adds the colour map if missing and sets has_colors.
   void enable_colors();
@@ -76,17 +77,18 @@ struct HalfedgeView {
 };
 
 /// The checked halfedge view of `mesh`'s polygons (check_two_manifold), up to date with
-/// its arrays: the cached one when the connectivity is as it left it, else built anew
-/// and cached. Lines and points are not in it.
+/// its arrays (every array of FFD_MESH_VERTEX_ARRAYS, the vec3 attributes, corner data,
+/// edge levels): `cache`'s view when the connectivity is as it left it, else built anew
+/// and kept in `cache`. Lines and points are not in it.
 /// \throw TopologyError as check_two_manifold says.
-HalfedgeView& halfedge_view(Mesh& mesh);
+HalfedgeView& halfedge_view(Mesh& mesh, HalfedgeCache& cache);
 
-/// Writes the view's vertices (positions, normals, colours, levels, vec3 attributes),
-/// tables and, when `connectivity_changed`, its faces back into `mesh`'s arrays: faces
-/// take the polygon elements' places in order (lines and points stay where they were;
-/// faces beyond the old count follow them), and the mesh's cached view becomes `view`.
+/// Writes the view's vertices (every array of FFD_MESH_VERTEX_ARRAYS the view has, vec3
+/// attributes), tables and, when `connectivity_changed`, its faces back into `mesh`'s
+/// arrays: faces take the polygon elements' places in order (lines and points stay where
+/// they were; faces beyond the old count follow them); `cache` keeps `view` as up to date.
 /// \pre the view has no garbage.
-void write_back(HalfedgeView& view, Mesh& mesh, bool connectivity_changed);
+void write_back(HalfedgeView& view, Mesh& mesh, bool connectivity_changed, HalfedgeCache& cache);
 
 /// A plain Surface_mesh of `mesh`'s polygons at their current positions (checked as
 /// halfedge_view does), for tools that hand a mesh to CGAL (benchmarks, oracles).

@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include "common/errors.h"
-#include "mesh/halfedge_view.h"
 #include "mesh/vertex_colors.h"
 #include "mesh/vertex_normals.h"
 
@@ -25,35 +24,6 @@ Mesh::~Mesh() = default;
 Mesh::Mesh(Mesh&&) noexcept = default;
 Mesh& Mesh::operator=(Mesh&&) noexcept = default;
 
-Mesh Mesh::clone() const {
-  Mesh copy;
-  copy.rest_ = rest_;
-  copy.pos_ = pos_;
-  copy.rest_normal_ = rest_normal_;
-  copy.normal_ = normal_;
-  copy.attributes_ = attributes_;
-  copy.colors_ = colors_;
-  copy.elements_ = elements_;
-  copy.num_polygons_ = num_polygons_;
-  copy.polygon_element_ = polygon_element_;
-  copy.uvs_ = uvs_;
-  copy.file_normals_ = file_normals_;
-  copy.groups_ = groups_;
-  copy.header_ = header_;
-  copy.file_uv_count = file_uv_count;
-  copy.file_normal_count = file_normal_count;
-  copy.source_ = source_;
-  copy.source_binary_ = source_binary_;
-  copy.gltf_ = gltf_;
-  copy.gltf_version_ = gltf_version_;
-  copy.vertex_levels_ = vertex_levels_;
-  copy.edge_levels_ = edge_levels_;
-  copy.topology_version_ = topology_version_;
-  if (view_) copy.view_ = copy_view(*view_);
-  copy.view_version_ = view_version_;
-  return copy;
-}
-
 bool Mesh::is_triangle_mesh() const {
   for (std::size_t e = 0; e < elements_.size(); ++e)
     if (elements_.kinds[e] == ElementKind::Polygon && elements_.degree(e) != 3) return false;
@@ -62,33 +32,33 @@ bool Mesh::is_triangle_mesh() const {
 
 namespace {
 
-// m with n columns: the first min(n, old) kept, the rest zero.
-void resize_columns(Eigen::Matrix3Xd& m, Eigen::Index n) {
-  const Eigen::Index old = m.cols();
+// m with n columns: the first min(n, old) kept, `fallback` past them.
+void resize_array(Eigen::Matrix3Xd& m, std::size_t count, const Eigen::Vector3d& fallback) {
+  const Eigen::Index old = m.cols(), n = static_cast<Eigen::Index>(count);
   m.conservativeResize(3, n);
-  if (n > old) m.rightCols(n - old).setZero();
+  if (n > old) m.rightCols(n - old).colwise() = fallback;
+}
+
+template <class T>
+void resize_array(std::vector<T>& v, std::size_t count, const T& fallback) {
+  v.resize(count, fallback);
 }
 
 }  // namespace
 
 void Mesh::resize_vertices(std::size_t count) {
-  const auto n = static_cast<Eigen::Index>(count);
-  for (Eigen::Matrix3Xd* m : {&rest_, &pos_, &rest_normal_, &normal_}) resize_columns(*m, n);
-  resize_other_vertex_data(count);
+  for_each_vertex_array([&](const auto& a) {
+    if (!a.optional || (this->*a.member).size() != 0) resize_array(this->*a.member, count, a.fallback);
+  });
+  for (auto& [name, m] : attributes_) resize_array(m, count, Eigen::Vector3d::Zero());
 }
 
 void Mesh::set_vertices(Eigen::Matrix3Xd positions) {
   rest_ = positions;
   pos_ = std::move(positions);
   rest_normal_.resize(3, pos_.cols());  // compute_vertex_normals writes every column
-  resize_other_vertex_data(num_vertices());
+  resize_vertices(num_vertices());      // recompute_rest_normals then sets the normals
   recompute_rest_normals(true);
-}
-
-void Mesh::resize_other_vertex_data(std::size_t count) {
-  for (auto& [name, m] : attributes_) resize_columns(m, static_cast<Eigen::Index>(count));
-  if (!colors_.empty()) colors_.resize(count, Eigen::Vector3f(0.8f, 0.8f, 0.8f));
-  if (!vertex_levels_.empty()) vertex_levels_.resize(count, 0);
 }
 
 Vec3Array Mesh::vec3_attribute(const std::string& name) {
@@ -111,8 +81,6 @@ std::vector<std::string> Mesh::attribute_names() const {
   for (const auto& [name, m] : attributes_) names.push_back("v:attr:" + name);
   if (!vertex_levels_.empty()) names.push_back(mesh_attribute::kVertexLevel);
   if (!edge_levels_.empty()) names.push_back(mesh_attribute::kEdgeLevel);
-  if (view_)
-    for (std::string& n : view_property_names(*view_)) names.push_back("view " + n);
   std::sort(names.begin(), names.end());
   return names;
 }

@@ -13,9 +13,9 @@
 // - besides these, the mesh carries only the declared attributes below (refinement
 //   levels, face starts, named vec3 attributes); an op's scratch data is removed before
 //   the op returns.
-// Storage is plain arrays: 3 × n matrices per vertex, flat index arrays per element. The
-// halfedge view a remesh step builds is kept (cached) while the connectivity stays as it
-// left it, so consecutive remesh steps see the same halfedge and edge numbering.
+// Storage is plain arrays: 3 × n matrices per vertex, flat index arrays per element; the
+// per-vertex arrays are declared once, in FFD_MESH_VERTEX_ARRAYS. A halfedge view that
+// an op builds is kept by whoever runs the ops (HalfedgeCache, halfedge_view.h), not here.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,7 +29,6 @@
 
 namespace ffd {
 
-struct HalfedgeView;
 struct GltfScene;
 
 /// Declared attributes: what steps other than the file's own data leave on a mesh, by
@@ -64,6 +63,36 @@ using RefinementLevel = std::uint8_t;
 using Vec3Array = Eigen::Map<Eigen::Matrix3Xd>;
 using ConstVec3Array = Eigen::Map<const Eigen::Matrix3Xd>;
 
+/// The colour of a vertex that a coloured mesh gives no colour of its own (OBJ's grey).
+inline const Eigen::Vector3f kDefaultColor(0.8f, 0.8f, 0.8f);
+
+/// The declared per-vertex arrays of a Mesh, one line each:
+///   X(member, storage, value, view property, default, optional)
+/// `storage` is a 3 × n matrix (one column a vertex) or a std::vector of `value`; `view
+/// property` names the array in the halfedge view (halfedge_view_cgal.h; "v:point" is its
+/// points); a new vertex gets `default`; an optional array may be empty, and then every
+/// vertex has the default. The Mesh's members, resize_vertices, clone and the halfedge
+/// view's sync in both directions walk this table: a per-vertex attribute is one line.
+#define FFD_MESH_VERTEX_ARRAYS(X)                                                                           \
+  X(rest_, Eigen::Matrix3Xd, Eigen::Vector3d, "v:rest", Eigen::Vector3d::Zero(), false)                      \
+  X(pos_, Eigen::Matrix3Xd, Eigen::Vector3d, "v:point", Eigen::Vector3d::Zero(), false)                      \
+  X(rest_normal_, Eigen::Matrix3Xd, Eigen::Vector3d, "v:rest_normal", Eigen::Vector3d::Zero(), false)        \
+  X(normal_, Eigen::Matrix3Xd, Eigen::Vector3d, "v:normal", Eigen::Vector3d::Zero(), false)                  \
+  X(colors_, std::vector<Eigen::Vector3f>, Eigen::Vector3f, "v:color", kDefaultColor, true)                  \
+  X(vertex_levels_, std::vector<RefinementLevel>, RefinementLevel, mesh_attribute::kVertexLevel, 0, true)
+
+class Mesh;
+
+/// One declared per-vertex array of a Mesh (a line of FFD_MESH_VERTEX_ARRAYS), as
+/// Mesh::for_each_vertex_array hands it to code that walks them.
+template <class Storage, class Value>
+struct VertexArray {
+  const char* name;       // the halfedge view's property
+  Storage Mesh::*member;  // mesh.*member is the array
+  Value fallback;         // of a new vertex, and of every vertex while an optional array is empty
+  bool optional;
+};
+
 /// A refinement-made edge's level (mesh_attribute::kEdgeLevel), by its vertices a < b.
 struct EdgeLevel {
   std::uint32_t a = 0, b = 0;
@@ -76,10 +105,18 @@ public:
   ~Mesh();
   Mesh(Mesh&&) noexcept;
   Mesh& operator=(Mesh&&) noexcept;
-  Mesh(const Mesh&) = delete;
   Mesh& operator=(const Mesh&) = delete;
-  /// A deep copy, attributes (and a cached halfedge view) included.
-  Mesh clone() const;
+  /// A deep copy, attributes included (copies are explicit: a Mesh can be large).
+  Mesh clone() const { return Mesh(*this); }
+
+  /// Calls f(VertexArray<Storage, Value>{...}) for each line of FFD_MESH_VERTEX_ARRAYS, in order.
+  template <class F>
+  static void for_each_vertex_array(F&& f) {
+#define FFD_VISIT_VERTEX_ARRAY(member, storage, value, name, fallback, optional) \
+  f(VertexArray<storage, value>{name, &Mesh::member, fallback, optional});
+    FFD_MESH_VERTEX_ARRAYS(FFD_VISIT_VERTEX_ARRAY)
+#undef FFD_VISIT_VERTEX_ARRAY
+  }
 
   std::size_t num_vertices() const { return static_cast<std::size_t>(pos_.cols()); }
   /// The number of polygon elements (faces); lines and points are not faces.
@@ -119,8 +156,8 @@ public:
   /// The names of the vec3 attributes, sorted.
   std::vector<std::string> vec3_attribute_names() const;
   /// Every attribute the mesh carries besides its file data, by the names of
-  /// mesh_attribute (vec3 attributes as "v:attr:NAME", a cached halfedge view's own
-  /// properties by their names), sorted: what a test checks for leftover scratch data.
+  /// mesh_attribute (vec3 attributes as "v:attr:NAME"), sorted: what a test checks for
+  /// leftover scratch data (with a HalfedgeCache's: attribute_names in halfedge_view.h).
   std::vector<std::string> attribute_names() const;
 
   /// The file's elements in order. An op that changes them calls set_elements() and,
@@ -197,29 +234,15 @@ public:
   /// where `also_current` is set.
   void recompute_rest_normals(bool also_current);
 
-  /// The halfedge view kept from the last op that built one (halfedge_view.h), or null;
-  /// valid only while cached_view_version() equals topology_version().
-  HalfedgeView* cached_view() const { return view_.get(); }
-  std::uint64_t cached_view_version() const { return view_version_; }
-  void set_cached_view(std::shared_ptr<HalfedgeView> view) {
-    view_ = std::move(view);
-    view_version_ = topology_version_;
-  }
-  /// Marks the cached view stale (an op is changing it, or the arrays changed).
-  void invalidate_cached_view() { view_version_ = ~std::uint64_t(0); }
-  /// Marks the cached view up to date (after an op wrote it back).
-  void revalidate_cached_view() { view_version_ = topology_version_; }
-
 private:
-  // Resizes the vec3 attributes, colours and vertex levels to `count` vertices (kept
-  // for the first ones, default past them).
-  void resize_other_vertex_data(std::size_t count);
+  Mesh(const Mesh&) = default;  // clone()
   static Vec3Array map(Eigen::Matrix3Xd& m) { return {m.data(), 3, m.cols()}; }
   static ConstVec3Array map(const Eigen::Matrix3Xd& m) { return {m.data(), 3, m.cols()}; }
 
-  Eigen::Matrix3Xd rest_, pos_, rest_normal_, normal_;
+#define FFD_DECLARE_VERTEX_ARRAY(member, storage, value, name, fallback, optional) storage member;
+  FFD_MESH_VERTEX_ARRAYS(FFD_DECLARE_VERTEX_ARRAY)
+#undef FFD_DECLARE_VERTEX_ARRAY
   std::map<std::string, Eigen::Matrix3Xd> attributes_;
-  std::vector<Eigen::Vector3f> colors_;
   MeshElements elements_;
   std::size_t num_polygons_ = 0;
   std::vector<std::uint32_t> polygon_element_;  // empty while every element is a polygon
@@ -231,11 +254,8 @@ private:
   bool source_binary_ = false;
   std::shared_ptr<const GltfScene> gltf_;  // shared by clones: it is never changed
   std::uint64_t gltf_version_ = 0;
-  std::vector<RefinementLevel> vertex_levels_;
   std::vector<EdgeLevel> edge_levels_;
   std::uint64_t topology_version_ = 0;
-  std::shared_ptr<HalfedgeView> view_;
-  std::uint64_t view_version_ = 0;
 };
 
 }  // namespace ffd

@@ -635,12 +635,12 @@ double smallest_cell_extent(const WarpStack& stack) {
   return best;
 }
 
-RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options,
+RemeshStats adaptive_remesh(Mesh& mesh, HalfedgeCache& cache, const WarpStack& stack, const RemeshOptions& options,
                             const std::function<void(double)>& progress) {
   RemeshStats stats;
-  HalfedgeView& view = halfedge_view(mesh);
+  HalfedgeView& view = halfedge_view(mesh, cache);
   Remesher(mesh, view, stack, options, stats, progress).run();
-  write_back(view, mesh, stats.triangulated_faces > 0 || stats.refinements > 0 || stats.decimations > 0);
+  write_back(view, mesh, stats.triangulated_faces > 0 || stats.refinements > 0 || stats.decimations > 0, cache);
   return stats;
 }
 

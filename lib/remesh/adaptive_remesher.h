@@ -35,19 +35,22 @@
 
 #include <Eigen/Core>
 
+#include "mesh/halfedge_view.h"
 #include "mesh/mesh.h"
 #include "remesh/remesh_options.h"
 #include "warp/warp_stack.h"
 
 namespace ffd {
 
-/// Refines and decimates `mesh` after a deformation by `stack`'s warps. `progress`, when
+/// Refines and decimates `mesh` after a deformation by `stack`'s warps, on the halfedge
+/// view that `cache` keeps between steps (the same halfedge and edge numbering from one
+/// remesh step to the next, while nothing else changes the connectivity). `progress`, when
 /// set, is called now and then with an estimate of the fraction done (the edge scan, then
 /// refinement as edges popped over popped plus queued, then decimation candidates
 /// visited; not always monotone) and with 1 at the end; it never changes the result.
 /// \throw InputError about "l_max" if l_max is automatic and no warp on the stack has a feature size
 /// (no lattice).
-RemeshStats adaptive_remesh(Mesh& mesh, const WarpStack& stack, const RemeshOptions& options,
+RemeshStats adaptive_remesh(Mesh& mesh, HalfedgeCache& cache, const WarpStack& stack, const RemeshOptions& options,
                             const std::function<void(double)>& progress = {});
 
 /// The smallest Warp::feature_size() over the stack (a lattice's: box edge length /

@@ -81,7 +81,7 @@ void RemeshStep::check(ScriptChecks& checks) const {
 }
 
 void RemeshStep::run(Scene& scene, StepContext& ctx) const {
-  const RemeshStats stats = adaptive_remesh(scene.mesh, scene.stack, options, ctx.progress);
+  const RemeshStats stats = adaptive_remesh(scene.mesh, scene.halfedges, scene.stack, options, ctx.progress);
   ctx.stats["l_max"] = stats.l_max;
   ctx.stats["trigger"] = name_of(kTriggers, options.trigger);
   ctx.stats["split"] = name_of(kSplits, options.longest_edge_first);

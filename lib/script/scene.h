@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/atomic_file.h"
+#include "mesh/halfedge_view.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_io.h"
 #include "warp/deformer.h"
@@ -25,6 +26,8 @@ struct SurfaceEditorDelete {
 
 struct Scene {
   Mesh mesh;
+  /// The halfedge view the last remesh step left, for the next one (halfedge_view.h).
+  HalfedgeCache halfedges;
   WarpStack stack;
   /// Deformers (lattices of every kind) by name; owned by `stack`.
   std::map<std::string, Deformer*> deformers;
