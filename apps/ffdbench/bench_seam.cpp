@@ -7,6 +7,8 @@
 // - code: lines of lib/script, branches on a deformer's kind left in the ops, selections,
 //   previews and drag (lines naming OctreeLattice or the octree map outside the kind's own
 //   files), and includes from a lower lib folder to a higher one.
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -75,21 +77,26 @@ std::size_t count_lines(const fs::path& file) {
   return n;
 }
 
-/// Layer of each lib folder: a folder may include folders of a lower layer only.
-int layer(const std::string& folder) {
-  static const std::map<std::string, int> layers = {{"common", 0},   {"mesh", 1},   {"warp", 2},
-                                                   {"multires", 3}, {"bcm", 3},    {"remesh", 3},
-                                                   {"render", 4},   {"script", 5}, {"batch", 6}};
-  auto it = layers.find(folder);
-  return it == layers.end() ? -1 : it->second;
+/// The lint's layer-include findings (scripts/lint.py, whose LAYERS table says which lib
+/// folder may include which): "file:line" of each include from a folder above.
+std::vector<std::string> upward_includes(const fs::path& root) {
+  const std::string command = "python3 " + (root / "scripts" / "lint.py").string() + " " + root.string();
+  std::vector<std::string> found;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) throw InputError("cannot run " + command);
+  char line[4096];
+  while (std::fgets(line, sizeof line, pipe))
+    if (std::strstr(line, "a folder above it")) found.push_back(std::string(line, std::strcspn(line, " ")));
+  ::pclose(pipe);
+  return found;
 }
 
 /// Lines of lib/script, kind branches outside the kinds' own files, and upward includes.
-json code_row(const fs::path& lib) {
-  std::size_t script_lines = 0, branches = 0, upward = 0;
-  json branch_lines = json::array(), upward_lines = json::array();
+json code_row(const fs::path& root) {
+  const fs::path lib = root / "lib";
+  std::size_t script_lines = 0, branches = 0;
+  json branch_lines = json::array();
   const std::regex kind(R"(OctreeLattice|\boctrees\b|run_octree|check_octree|select_octree_points|octree_drag)");
-  const std::regex include(R"re(^\s*#\s*include\s*"([a-z_]+)/)re");
   for (const auto& entry : fs::recursive_directory_iterator(lib)) {
     const fs::path& p = entry.path();
     if (!entry.is_regular_file() || (p.extension() != ".cpp" && p.extension() != ".h")) continue;
@@ -102,23 +109,18 @@ json code_row(const fs::path& lib) {
     std::ifstream is(p);
     std::string line;
     for (std::size_t n = 1; std::getline(is, line); ++n) {
-      std::smatch m;
-      if (std::regex_search(line, m, include) && layer(m[1]) >= 0 && layer(folder) >= 0 && m[1] != folder &&
-          layer(m[1]) >= layer(folder)) {
-        ++upward;
-        upward_lines.push_back(rel + ":" + std::to_string(n));
-      }
       if (!own && (folder == "script" || folder == "render" || folder == "warp") && std::regex_search(line, kind)) {
         ++branches;
         branch_lines.push_back(rel + ":" + std::to_string(n));
       }
     }
   }
+  const std::vector<std::string> upward = upward_includes(root);
   return {{"script_lines", script_lines},
           {"kind_branches", branches},
           {"kind_branch_lines", branch_lines},
-          {"upward_includes", upward},
-          {"upward_include_lines", upward_lines}};
+          {"upward_includes", upward.size()},
+          {"upward_include_lines", upward}};
 }
 
 }  // namespace
@@ -142,7 +144,7 @@ void bench_seam(Context& ctx) {
     std::fprintf(stderr, "ffdbench: seam: dx/dp of %zu vertices, %d thread(s)\n", vertices, threads);
     rows.push_back(sensitivity_row(ffdtool, mesh_path, vertices, script, dir, threads));
   }
-  ctx.out["seam"] = {{"sensitivity", rows}, {"code", code_row(fs::path(FFD_SOURCE_ROOT) / "lib")}};
+  ctx.out["seam"] = {{"sensitivity", rows}, {"code", code_row(fs::path(FFD_SOURCE_ROOT))}};
 }
 
 }  // namespace ffd::bench
