@@ -91,10 +91,10 @@ void LatticeStep::check_octree_options(ScriptChecks& checks) const {
   }
   DeformerShape shape{"octree", true, octree.levels, octree.levels, nullptr};
   // A local level's nodes are at twice its source's resolution; the run checks them.
-  shape.unmovable = [grid = octree.levels](int level, const Index3& ijk) -> std::optional<std::string> {
+  shape.unmovable = [grid = octree.levels](int level, const PointIndex& index) -> std::optional<std::string> {
     const int top = 1 << std::min(level, grid + 1);
     for (int a = 0; a < 3; ++a)
-      if (ijk[a] < 0 || ijk[a] > top) return octree_points_text(level, top);
+      if (index.ijk[a] < 0 || index.ijk[a] > top) return octree_points_text(level, top);
     return std::nullopt;
   };
   checks.deformers[name] = shape;
@@ -122,11 +122,11 @@ void LatticeStep::check(ScriptChecks& checks) const {
   }
   if (points > 16.0 * 1024 * 1024) checks.fail(pointer + "/cells", "the lattice would have more than 16M control points");
   DeformerShape shape{name_of(kBases, basis), false, 0, -1, nullptr};
-  shape.unmovable = [lattice](int, const Index3& ijk) -> std::optional<std::string> {
+  shape.unmovable = [lattice](int, const PointIndex& index) -> std::optional<std::string> {
     for (int a = 0; a < 3; ++a) {
       int lo, hi;
       movable_span(lattice, a, lo, hi);
-      if (ijk[a] < lo || ijk[a] > hi) return movable_text(lattice);
+      if (index.ijk[a] < lo || index.ijk[a] > hi) return movable_text(lattice);
     }
     return std::nullopt;
   };

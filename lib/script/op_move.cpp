@@ -86,7 +86,7 @@ void MoveStep::check(ScriptChecks& checks) const {
   const int l = checks.check_lattice_level(lattice, level, pointer);
   const DeformerShape& shape = checks.deformers.at(lattice);
   for (std::size_t i = 0; i < points.size(); ++i)
-    if (const std::optional<std::string> movable = shape.unmovable(l, points[i].index))
+    if (const std::optional<std::string> movable = shape.unmovable(l, PointIndex{true, points[i].index, 0}))
       checks.fail(pointer + "/points/" + std::to_string(i) + "/index",
                   "point " + write_value(points[i].index).dump() + " is not movable (movable: " + *movable + ")");
 }

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "warp/deformer.h"
+
 namespace ffd {
 
 struct OutputFile;
@@ -21,10 +23,11 @@ struct DeformerShape {
   bool has_levels = false;  // whether steps may name a level
   int levels = 0;           // the highest level index (local levels included)
   int subdividable = -1;    // the highest level the subdivide op can split; -1: none
-  /// For a point index [i, j, k] at a level: the text of which points are movable when
-  /// it is none of them ("i in [2, 4], ..."), or nothing when it may be one (the run
-  /// checks what only the mesh decides, such as an octree's cut cells).
-  std::function<std::optional<std::string>(int, const std::array<int, 3>&)> unmovable;
+  /// For a point's script index at a level ([i, j, k], or n for scattered points): the
+  /// text of which points are movable when it is none of them ("i in [2, 4], ..."), or
+  /// nothing when it may be one (the run checks what only the mesh decides, such as an
+  /// octree's cut cells).
+  std::function<std::optional<std::string>(int, const PointIndex&)> unmovable;
 };
 
 class ScriptChecks {

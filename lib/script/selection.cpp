@@ -110,9 +110,12 @@ namespace {
 
 /// Control points a selection can pick: their positions, the flat index of a grid index
 /// (none when out of range or not movable), which are movable, and a text of which are.
+/// Entries are points' script indices: [i, j, k] on grids, plain integers for scattered
+/// points (`grid` false).
 struct PickablePoints {
   Eigen::Matrix3Xd points;
-  std::function<std::optional<std::size_t>(const Index3&)> flat;
+  bool grid = true;
+  std::function<std::optional<std::size_t>(const PointIndex&)> flat;
   std::function<bool(std::size_t)> movable;
   std::string movable_text;
 };
@@ -123,8 +126,8 @@ std::vector<std::size_t> pick_points(const Selection& selection, const PickableP
     if (part.kind == SelectionPart::Kind::Indices) {
       for (std::size_t i = 0; i < part.indices.size(); ++i) {
         const SelectionPart::Entry& e = part.indices[i];
-        if (!e.lattice) throw InputError(At{index_place(part, i)}, "expected a lattice index [i, j, k]");
-        const std::optional<std::size_t> flat = pick.flat(e.ijk);
+        if (pick.grid && !e.lattice) throw InputError(At{index_place(part, i)}, "expected a lattice index [i, j, k]");
+        const std::optional<std::size_t> flat = pick.flat(PointIndex{e.lattice, e.ijk, e.vertex});
         if (!flat)
           throw InputError(At{index_place(part, i)}, "point " + e.text + " is not movable (movable: " + pick.movable_text + ")");
         picked.push_back(*flat);
@@ -146,9 +149,8 @@ std::vector<std::size_t> pick_points(const Selection& selection, const PickableP
 std::vector<std::size_t> select_points(const Selection& selection, const Deformer& deformer, int level) {
   PickablePoints pick;
   pick.points = deformer.points(level);
-  pick.flat = [&](const Index3& ijk) -> std::optional<std::size_t> {
-    PointIndex index;
-    index.ijk = ijk;
+  pick.grid = deformer.grid_indexed();
+  pick.flat = [&](const PointIndex& index) -> std::optional<std::size_t> {
     const std::optional<std::size_t> id = deformer.find_point(level, index);
     if (!id || !deformer.point_movable(level, *id)) return std::nullopt;
     return id;
@@ -165,8 +167,8 @@ std::vector<std::size_t> select_octree_cells(const Selection& selection, const O
   pick.points = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(g.num_cells()));
   for (std::size_t c = 0; c < g.num_cells(); ++c)
     for (int k = 0; k < 8; ++k) pick.points.col(static_cast<Eigen::Index>(c)) += shown.col(g.corner(c, k)) / 8;
-  pick.flat = [&](const Index3& ijk) -> std::optional<std::size_t> {
-    const std::int32_t c = g.cell(ijk[0], ijk[1], ijk[2]);
+  pick.flat = [&](const PointIndex& index) -> std::optional<std::size_t> {
+    const std::int32_t c = g.cell(index.ijk[0], index.ijk[1], index.ijk[2]);
     if (c < 0) return std::nullopt;
     return static_cast<std::size_t>(c);
   };
