@@ -106,25 +106,34 @@ void expect_matches_finite_differences(WarpStack& stack, const std::string& name
 
 Parallelepiped box_of(const Mesh& mesh, double padding) { return fit_aabb(mesh.positions(), {}, padding); }
 
+/// Pushes `warp` on `stack` as `name`; returns it.
+template <class W>
+W& push(WarpStack& stack, Mesh& mesh, const std::string& name, std::unique_ptr<W> warp) {
+  W& raw = *warp;
+  stack.push(mesh, name, std::move(warp));
+  return raw;
+}
+
+/// Moves lattice point `ijk` by `d` and re-evaluates the mesh.
+void nudge(Lattice& l, const Index3& ijk, const Eigen::Vector3d& d, WarpStack& stack, Mesh& mesh,
+           const std::string& name) {
+  l.move_point(ijk, l.point(ijk) + d);
+  stack.update(mesh, name);
+}
+
 TEST(Sensitivity, BSplineLatticeMatchesFiniteDifferences) {
   Mesh mesh = test::bunny();
   WarpStack stack;
-  auto owned = std::make_unique<BSplineLattice>(box_of(mesh, 0.05), Index3{6, 5, 7}, 3);
-  BSplineLattice& l = *owned;
-  stack.push(mesh, "L", std::move(owned));
-  l.move_point({3, 3, 3}, l.point({3, 3, 3}) + Eigen::Vector3d(0.4, 0.7, -0.2));
-  stack.update(mesh, "L");
+  auto& l = push(stack, mesh, "L", std::make_unique<BSplineLattice>(box_of(mesh, 0.05), Index3{6, 5, 7}, 3));
+  nudge(l, {3, 3, 3}, Eigen::Vector3d(0.4, 0.7, -0.2), stack, mesh, "L");
   expect_matches_finite_differences(stack, "L", 0, mesh, 8);
 }
 
 TEST(Sensitivity, BernsteinLatticeMatchesFiniteDifferences) {
   Mesh mesh = test::bunny();
   WarpStack stack;
-  auto owned = std::make_unique<BernsteinLattice>(box_of(mesh, 0.05), Index3{3, 4, 3});
-  BernsteinLattice& l = *owned;
-  stack.push(mesh, "L", std::move(owned));
-  l.move_point({1, 2, 1}, l.point({1, 2, 1}) + Eigen::Vector3d(0.5, -0.3, 0.2));
-  stack.update(mesh, "L");
+  auto& l = push(stack, mesh, "L", std::make_unique<BernsteinLattice>(box_of(mesh, 0.05), Index3{3, 4, 3}));
+  nudge(l, {1, 2, 1}, Eigen::Vector3d(0.5, -0.3, 0.2), stack, mesh, "L");
   expect_matches_finite_differences(stack, "L", 0, mesh, 8);
 }
 
@@ -133,10 +142,9 @@ TEST(Sensitivity, OctreeLevelAfterCoarserMovesMatchesFiniteDifferences) {
   WarpStack stack;
   OctreeOptions options;
   options.levels = 3;
-  auto owned = std::make_unique<OctreeLattice>(fit_principal_box(mesh.positions(), {}, 0.02),
-                                               Eigen::Matrix3Xd(mesh.positions()), options);
-  OctreeLattice& l = *owned;
-  stack.push(mesh, "O", std::move(owned));
+  auto& l = push(stack, mesh, "O",
+                 std::make_unique<OctreeLattice>(fit_principal_box(mesh.positions(), {}, 0.02),
+                                                 Eigen::Matrix3Xd(mesh.positions()), options));
   const double s = l.scale();
   l.move_level_points(0, std::vector<std::int32_t>{l.point_index(0, {1, 1, 1})},
                 {l.points(0).col(l.point_index(0, {1, 1, 1})) + Eigen::Vector3d(0.02, 0.03, 0) * s});
@@ -151,17 +159,11 @@ TEST(Sensitivity, OctreeLevelAfterCoarserMovesMatchesFiniteDifferences) {
 TEST(Sensitivity, ChainRuleThroughALaterLattice) {
   Mesh mesh = test::bunny();
   WarpStack stack;
-  auto first = std::make_unique<BSplineLattice>(box_of(mesh, 0.05), Index3{5, 5, 5}, 3);
-  BSplineLattice& a = *first;
-  stack.push(mesh, "A", std::move(first));
-  a.move_point({2, 3, 2}, a.point({2, 3, 2}) + Eigen::Vector3d(0.3, 0.5, 0));
-  stack.update(mesh, "A");
-  auto second = std::make_unique<BernsteinLattice>(box_of(mesh, 0.02), Index3{2, 3, 2});
-  BernsteinLattice& b = *second;
-  stack.push(mesh, "B", std::move(second));
-  b.move_point({1, 2, 1}, b.point({1, 2, 1}) + Eigen::Vector3d(1.0, 0.4, -0.6));
-  b.move_point({1, 1, 1}, b.point({1, 1, 1}) + Eigen::Vector3d(-0.5, 0.2, 0.8));
-  stack.update(mesh, "B");
+  auto& a = push(stack, mesh, "A", std::make_unique<BSplineLattice>(box_of(mesh, 0.05), Index3{5, 5, 5}, 3));
+  nudge(a, {2, 3, 2}, Eigen::Vector3d(0.3, 0.5, 0), stack, mesh, "A");
+  auto& b = push(stack, mesh, "B", std::make_unique<BernsteinLattice>(box_of(mesh, 0.02), Index3{2, 3, 2}));
+  nudge(b, {1, 2, 1}, Eigen::Vector3d(1.0, 0.4, -0.6), stack, mesh, "B");
+  nudge(b, {1, 1, 1}, Eigen::Vector3d(-0.5, 0.2, 0.8), stack, mesh, "B");
   // Off-diagonal entries: the later lattice mixes the axes.
   const Market m = sensitivity(stack, 0, a, 0, mesh);
   std::size_t off = 0;
@@ -173,9 +175,7 @@ TEST(Sensitivity, ChainRuleThroughALaterLattice) {
 TEST(Sensitivity, ALoneLinearDeformerIsItsOwnLinearization) {
   Mesh mesh = test::bunny();
   WarpStack stack;
-  auto owned = std::make_unique<BSplineLattice>(box_of(mesh, 0.05), Index3{6, 6, 6}, 3);
-  BSplineLattice& l = *owned;
-  stack.push(mesh, "L", std::move(owned));
+  auto& l = push(stack, mesh, "L", std::make_unique<BSplineLattice>(box_of(mesh, 0.05), Index3{6, 6, 6}, 3));
   const Eigen::Matrix3Xd before = mesh.positions();
   const Market m = sensitivity(stack, 0, l, 0, mesh);
   const std::vector<std::size_t> ids = movable_ids(l, 0);
@@ -200,9 +200,7 @@ TEST(Sensitivity, ALoneLinearDeformerIsItsOwnLinearization) {
 TEST(Sensitivity, HeaderNamesEveryMovablePointInNetOrder) {
   Mesh mesh = test::bunny();
   WarpStack stack;
-  auto owned = std::make_unique<BSplineLattice>(box_of(mesh, 0.05), Index3{5, 5, 5}, 2);
-  const BSplineLattice& l = *owned;
-  stack.push(mesh, "L", std::move(owned));
+  const auto& l = push(stack, mesh, "L", std::make_unique<BSplineLattice>(box_of(mesh, 0.05), Index3{5, 5, 5}, 2));
   const Market m = sensitivity(stack, 0, l, 0, mesh);
   const std::vector<std::size_t> ids = movable_ids(l, 0);
   ASSERT_EQ(m.points.size(), ids.size());
