@@ -40,6 +40,7 @@ const std::map<std::string, json>& minimal_steps() {
       {"move", {{"op", "move"}, {"lattice", "body"}, {"points", {{{"index", {2, 2, 2}}, {"by", {0, 0, 0.1}}}}}}},
       {"drag", {{"op", "drag"}, {"lattice", "body"}, {"points", {{{"vertex", 0}, {"to", {0, 0, 0}}}}}}},
       {"subdivide", {{"op", "subdivide"}, {"lattice", "body"}, {"cells", {{"indices", {{1, 1, 1}}}}}}},
+      {"rbf", {{"op", "rbf"}, {"name", "morph"}, {"points", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}}},
       {"remesh", {{"op", "remesh"}}},
       {"save", {{"op", "save"}, {"path", "mid.obj"}}},
       {"bcm",

@@ -12,7 +12,7 @@ namespace ffd {
 namespace {
 
 struct MovePoint {
-  Index3 index{0, 0, 0};
+  PointIndex index;
   std::optional<Eigen::Vector3d> by, to;
 };
 
@@ -39,7 +39,8 @@ struct MoveStep final : Step {
 
 KeyTable<MovePoint> point_keys() {
   using P = MovePoint;
-  return {{key<P>("/index", schema_ref("index3"), nullptr, "The control point [i, j, k].",
+  return {{key<P>("/index", schema_ref("point_index"), nullptr,
+                  "The control point: [i, j, k] on a lattice, its number on scattered points (rbf).",
                   [](auto& p) -> auto& { return p.index; })
                .required(),
            key<P>("/by", schema_ref("vec3"), nullptr, "Displacement added to the point's current position.",
@@ -86,17 +87,16 @@ void MoveStep::check(ScriptChecks& checks) const {
   const int l = checks.check_lattice_level(lattice, level, pointer);
   const DeformerShape& shape = checks.deformers.at(lattice);
   for (std::size_t i = 0; i < points.size(); ++i)
-    if (const std::optional<std::string> movable = shape.unmovable(l, PointIndex{true, points[i].index, 0}))
+    if (const std::optional<std::string> movable = shape.unmovable(l, points[i].index))
       checks.fail(pointer + "/points/" + std::to_string(i) + "/index",
-                  "point " + write_value(points[i].index).dump() + " is not movable (movable: " + *movable + ")");
+                  "point " + points[i].index.text() + " is not movable (movable: " + *movable + ")");
 }
 
 // Listed points, in order; a point listed again moves on from where the list put it.
 MoveTargets MoveStep::listed(const Deformer& target, int l) const {
   MoveTargets out;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    PointIndex index;
-    index.ijk = points[i].index;
+    const PointIndex& index = points[i].index;
     const std::optional<std::size_t> id = target.find_point(l, index);
     if (!id) throw InputError(target.missing_point(l, index), {"points", i});
     const auto seen = std::find(out.ids.begin(), out.ids.end(), *id);

@@ -18,6 +18,20 @@ const char* kGrammar = R"json({
              "description": "Three numbers [x, y, z]."},
     "index3": {"type": "array", "items": {"type": "integer"}, "minItems": 3, "maxItems": 3,
                "description": "A lattice index [i, j, k]; i runs along the box's first axis."},
+    "point_index": {
+      "description": "A control point: [i, j, k] on a lattice, or its number n for scattered points (rbf).",
+      "oneOf": [{"$ref": "#/$defs/index3"}, {"type": "integer", "minimum": 0}]
+    },
+    "points": {
+      "description": "Positions of control points: a list of [x, y, z], a file of them (an OBJ's v lines or x y z lines; relative to the script's folder), or the current positions of selected mesh vertices.",
+      "oneOf": [
+        {"type": "array", "minItems": 1, "items": {"$ref": "#/$defs/vec3"}},
+        {"type": "object", "title": "file", "required": ["file"], "additionalProperties": false,
+         "properties": {"file": {"type": "string"}}},
+        {"type": "object", "title": "select", "required": ["select"], "additionalProperties": false,
+         "properties": {"select": {"$ref": "#/$defs/selection"}}}
+      ]
+    },
     "selection_part": {
       "oneOf": [
         {"type": "object", "title": "indices", "required": ["indices"], "additionalProperties": false,

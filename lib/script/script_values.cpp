@@ -155,4 +155,27 @@ void read_value(const json& j, PointPositions& out, const ScriptPlace& place) {
   out.points = read_point_file(out.file);  // throws with the file's line on a line it cannot read
 }
 
+void read_value(const json& j, PointIndex& out, const ScriptPlace&) {
+  out = PointIndex{};
+  out.grid = j.is_array();
+  if (out.grid)
+    out.ijk = {j[0].get<int>(), j[1].get<int>(), j[2].get<int>()};
+  else
+    out.n = j.get<long long>();
+}
+
+void read_value(const json& j, PointSource& out, const ScriptPlace& place) {
+  out = PointSource{};
+  if (j.is_array()) {
+    for (const json& p : j) out.points.push_back(vec3(p));
+  } else if (j.contains("file")) {
+    out.file = script_file(j["file"], place.at("/file"), "file of positions");
+    out.points = read_point_file(out.file);
+  } else {
+    Selection select;
+    read_value(j["select"], select, place.at("/select"));
+    out.select = std::move(select);
+  }
+}
+
 }  // namespace ffd

@@ -15,6 +15,7 @@
 
 #include "common/errors.h"
 #include "script/transform.h"
+#include "warp/deformer.h"
 
 namespace ffd {
 
@@ -83,6 +84,15 @@ struct PointPositions {
   std::vector<Eigen::Vector3d> points;
 };
 
+/// Control points as a script gives them (the grammar's `points`): a list of positions, a
+/// file of positions (read with the script), or a selection of mesh vertices, whose
+/// current positions the step takes when it runs.
+struct PointSource {
+  std::vector<Eigen::Vector3d> points;  // the list, or the file's points
+  std::string file;                     // as resolved against the script's folder, or ""
+  std::optional<Selection> select;
+};
+
 void read_value(const nlohmann::json& j, double& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, int& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, long long& out, const ScriptPlace& place);
@@ -90,6 +100,10 @@ void read_value(const nlohmann::json& j, bool& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, std::string& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, Eigen::Vector3d& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, Index3& out, const ScriptPlace& place);
+/// [i, j, k], or a plain integer n (the grammar's `point_index`).
+void read_value(const nlohmann::json& j, PointIndex& out, const ScriptPlace& place);
+/// \throw InputError as the selection or the file of positions does.
+void read_value(const nlohmann::json& j, PointSource& out, const ScriptPlace& place);
 /// \throw InputError at "/rotate/axis" when the rotation axis is zero.
 void read_value(const nlohmann::json& j, Transform& out, const ScriptPlace& place);
 /// Reads selection files now. \throw InputError for a missing file (at "/file") or a
