@@ -33,10 +33,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
+using test::expect_one_error_line;
 using test::files_in;
 using test::quoted;
 using test::read_file;
 using test::run_tool;
+using test::script;
 using test::temp_folder;
 using test::write_file;
 
@@ -57,20 +59,6 @@ const char* const kLattice =
     R"({"op":"lattice","name":"L","basis":"bspline","degree":3,"box":{"fit":"aabb","padding":0.05},"cells":[4,4,4]})";
 const char* const kMove =
     R"({"op":"move","lattice":"L","select":{"box":{"min":[0,0,-10],"max":[10,10,10]}},"transform":{"translate":[0.3,0.4,0.1]}})";
-std::string script(const std::vector<std::string>& steps) {
-  std::string s = R"({"version":1,"steps":[)";
-  for (std::size_t i = 0; i < steps.size(); ++i) s += (i ? "," : "") + steps[i];
-  return s + "]}";
-}
-
-// stderr holds exactly one line, "ffdtool: error: ...", mentioning every part.
-void expect_one_error_line(const std::string& err, const std::vector<std::string>& parts) {
-  EXPECT_EQ(err.rfind("ffdtool: error: ", 0), 0u) << "stderr: " << err;
-  ASSERT_FALSE(err.empty());
-  EXPECT_EQ(err.find('\n'), err.size() - 1) << "not exactly one line on stderr:\n" << err;
-  for (const std::string& part : parts)
-    EXPECT_NE(err.find(part), std::string::npos) << "stderr does not mention '" << part << "': " << err;
-}
 
 // `ffdtool run MESH SCRIPT -o OUT --quiet`; returns the exit code.
 int run_ffd(const std::string& mesh, const std::string& script_path, const std::string& out, std::string* err = nullptr,

@@ -26,6 +26,7 @@ using json = nlohmann::json;
 using test::files_in;
 using test::quoted;
 using test::read_file;
+using test::script;
 using test::run_tool;
 using test::temp_folder;
 using test::without_measurements;
@@ -48,12 +49,6 @@ std::string shared_mesh(const std::string& name) {
 const std::string kLattice =
     R"({"op": "lattice", "name": "auto", "basis": "octree", "box": {"fit": "obb", "padding": 0.02}, )"
     R"("levels": 4, "shrink": 0.002, "cc_steps": 2})";
-
-std::string script(const std::vector<std::string>& steps) {
-  std::string s = R"({"version": 1, "steps": [)";
-  for (std::size_t i = 0; i < steps.size(); ++i) s += (i ? ",\n  " : "\n  ") + steps[i];
-  return s + "]}";
-}
 
 struct ToolRun {
   int code = -1;

@@ -18,6 +18,7 @@ namespace {
 using test::expect_one_error_line;
 using test::quoted;
 using test::read_file;
+using test::script;
 using test::run_tool;
 using test::temp_folder;
 using test::write_file;
@@ -180,12 +181,6 @@ TEST(Rbf, ASingularLayoutIsRefusedNamingThePoints) {
   test::expect_input_error([&] { RbfDeformer(X, RbfOptions{}); }, "control points 1 and 4 are at the same place");
   std::vector<Eigen::Vector3d> flat = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 3, 0}};
   test::expect_input_error([&] { RbfDeformer(flat, RbfOptions{}); }, "the control points lie in one plane");
-}
-
-std::string script(const std::vector<std::string>& steps) {
-  std::string s = R"({"version": 1, "steps": [)";
-  for (std::size_t i = 0; i < steps.size(); ++i) s += (i ? ",\n  " : "\n  ") + steps[i];
-  return s + "]}";
 }
 
 int run_script(const std::string& dir, const std::string& name, const std::vector<std::string>& steps,

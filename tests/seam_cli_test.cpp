@@ -21,6 +21,7 @@ using json = nlohmann::json;
 using test::expect_one_error_line;
 using test::quoted;
 using test::read_file;
+using test::script;
 using test::run_tool;
 using test::temp_folder;
 using test::write_file;
@@ -60,12 +61,6 @@ void expect_same_mesh(const std::string& a, const std::string& b, const std::str
 // portable one, no FMA contraction) rounds differently in the last bits, so it is held to
 // 1e-9 of the bunny's and the elephant's units instead (about 1e6 ulps of their coordinates).
 bool golden_build() { return std::string(FFD_BUILD_FLAGS) == "Release native"; }
-
-std::string script(const std::vector<std::string>& steps) {
-  std::string s = R"({"version": 1, "steps": [)";
-  for (std::size_t i = 0; i < steps.size(); ++i) s += (i ? ",\n  " : "\n  ") + steps[i];
-  return s + "]}";
-}
 
 class SeamGolden : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {};
 

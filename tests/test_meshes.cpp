@@ -244,4 +244,10 @@ std::string cgal_mesh(const std::string& name) {
   return fs::exists(out) ? out : std::string();
 }
 
+std::string script(const std::vector<std::string>& steps) {
+  std::string s = R"({"version": 1, "steps": [)";
+  for (std::size_t i = 0; i < steps.size(); ++i) s += (i ? ",\n  " : "\n  ") + steps[i];
+  return s + "]}";
+}
+
 }  // namespace ffd::test

@@ -54,6 +54,9 @@ void expect_input_error(const std::function<void()>& fn, const std::string& pref
 /// stderr holds exactly one line, "ffdtool: error: ...", mentioning every part.
 void expect_one_error_line(const std::string& err, const std::vector<std::string>& parts);
 
+/// A script of `steps` (each a JSON object's text): {"version": 1, "steps": [...]}.
+std::string script(const std::vector<std::string>& steps);
+
 /// A mesh of CGAL's data set (Debian's libcgal-demo, which scripts/setup.sh installs), by
 /// its name in data/meshes/ ("elephant.off"), extracted once; "" when it is not there.
 std::string cgal_mesh(const std::string& name);

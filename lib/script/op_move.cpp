@@ -92,24 +92,22 @@ void MoveStep::check(ScriptChecks& checks) const {
                   "point " + points[i].index.text() + " is not movable (movable: " + *movable + ")");
 }
 
-// Listed points, in order; a point listed again moves on from where the list put it.
+// Listed points, in order; a point listed again moves on from where the list put it. The
+// points' current positions come in one call (an octree level computes them all at once).
 MoveTargets MoveStep::listed(const Deformer& target, int l) const {
   MoveTargets out;
+  std::vector<std::size_t> slot(points.size());  // listed point i -> its entry in out
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const PointIndex& index = points[i].index;
-    const std::optional<std::size_t> id = target.find_point(l, index);
-    if (!id) throw InputError(target.missing_point(l, index), {"points", i});
-    const auto seen = std::find(out.ids.begin(), out.ids.end(), *id);
-    const Eigen::Vector3d now =
-        seen != out.ids.end() ? out.targets[static_cast<std::size_t>(seen - out.ids.begin())]
-                              : Eigen::Vector3d(target.points(l, {*id}).col(0));
-    const Eigen::Vector3d to = points[i].by ? Eigen::Vector3d(now + *points[i].by) : *points[i].to;
-    if (seen != out.ids.end()) {
-      out.targets[static_cast<std::size_t>(seen - out.ids.begin())] = to;
-    } else {
-      out.ids.push_back(*id);
-      out.targets.push_back(to);
-    }
+    const std::optional<std::size_t> id = target.find_point(l, points[i].index);
+    if (!id) throw InputError(target.missing_point(l, points[i].index), {"points", i});
+    slot[i] = static_cast<std::size_t>(std::find(out.ids.begin(), out.ids.end(), *id) - out.ids.begin());
+    if (slot[i] == out.ids.size()) out.ids.push_back(*id);
+  }
+  const Eigen::Matrix3Xd now = target.points(l, out.ids);
+  for (Eigen::Index c = 0; c < now.cols(); ++c) out.targets.push_back(now.col(c));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    Eigen::Vector3d& to = out.targets[slot[i]];
+    to = points[i].by ? Eigen::Vector3d(to + *points[i].by) : *points[i].to;
   }
   return out;
 }

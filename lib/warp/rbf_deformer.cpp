@@ -148,7 +148,8 @@ MoveReport RbfDeformer::move_points(int, const std::vector<std::size_t>& ids, co
   const Eigen::Index n = static_cast<Eigen::Index>(rest_.size());
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n + 4, 3);
   for (Eigen::Index i = 0; i < n; ++i) rhs.row(i) = (current_[static_cast<std::size_t>(i)] - rest_[static_cast<std::size_t>(i)]).transpose();
-  coefficients_ = rhs.isZero(0.0) ? Eigen::MatrixXd::Zero(n + 4, 3) : Eigen::MatrixXd(lu_.solve(rhs));
+  moved_ = !rhs.isZero(0.0);
+  coefficients_ = moved_ ? Eigen::MatrixXd(lu_.solve(rhs)) : Eigen::MatrixXd::Zero(n + 4, 3);
   changed_ = changed_ || !ids.empty();
   MoveReport report;
   report.points_moved = ids.size();
@@ -180,7 +181,7 @@ double RbfDeformer::scale() const {
 Eigen::Vector3d RbfDeformer::apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const {
   if (jacobian) jacobian->setIdentity();
   const Eigen::Index n = static_cast<Eigen::Index>(rest_.size());
-  if (coefficients_.isZero(0.0)) return x;  // unmoved: the identity, bit for bit
+  if (!moved_) return x;  // unmoved: the identity, bit for bit
   // D(x) = sum gamma_i phi(r_i) + c + Q x; dD/dx = sum gamma_i (phi'/r)(x - x_i)^T + Q.
   Eigen::Vector3d d = coefficients_.row(n).transpose() + coefficients_.bottomRows<3>().transpose() * x;
   if (jacobian) *jacobian += coefficients_.bottomRows<3>().transpose();

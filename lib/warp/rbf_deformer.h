@@ -96,6 +96,7 @@ private:
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::MatrixXd coefficients_;  // (n + 4) x 3: gamma, c, Q^T of the displacement
   double condition_ = 0, spacing_ = 0;
+  bool moved_ = false;  // some point is off its rest position (else the coefficients are zero)
   bool changed_ = false;
 };
 
