@@ -6,7 +6,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build ccache pkg-config
-  libcgal-dev libeigen3-dev libsuitesparse-dev libsleef-dev
+  libcgal-dev libeigen3-dev libsuitesparse-dev libsleef-dev libnanoflann-dev
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libpng-dev
   libgtest-dev libgmock-dev libssl-dev
   libcgal-demo

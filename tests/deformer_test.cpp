@@ -13,7 +13,9 @@
 #include "warp/bernstein_lattice.h"
 #include "warp/box_fit.h"
 #include "warp/bspline_lattice.h"
+#include "warp/cage_deformer.h"
 #include "warp/drag.h"
+#include "warp/idw_deformer.h"
 #include "warp/rbf_deformer.h"
 #include "warp/sensitivity.h"
 #include "warp/warp_stack.h"
@@ -195,6 +197,32 @@ TEST(Sensitivity, RbfAfterALatticeMatchesFiniteDifferences) {
   expect_matches_finite_differences(stack, "A", 0, mesh, 6);  // the lattice through the RBF
 }
 
+/// A quad cage: the bunny's box grown by `pad`.
+std::unique_ptr<CageDeformer> bunny_cage(const Mesh& mesh, double pad) {
+  const Eigen::Vector3d lo = mesh.positions().rowwise().minCoeff().array() - pad;
+  const Eigen::Vector3d hi = mesh.positions().rowwise().maxCoeff().array() + pad;
+  std::vector<Eigen::Vector3d> corners;
+  for (int i = 0; i < 8; ++i) corners.emplace_back((i & 1) ? hi[0] : lo[0], (i & 2) ? hi[1] : lo[1], (i & 4) ? hi[2] : lo[2]);
+  return std::make_unique<CageDeformer>(
+      corners, std::vector<std::vector<std::uint32_t>>{{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}});
+}
+
+TEST(Sensitivity, IdwAndCageAfterALatticeMatchFiniteDifferences) {
+  Mesh mesh = test::bunny();
+  WarpStack stack;
+  auto& a = push(stack, mesh, "A", std::make_unique<BSplineLattice>(box_of(mesh, 0.05), Index3{5, 5, 5}, 3));
+  nudge(a, {2, 3, 2}, Eigen::Vector3d(0.3, 0.5, 0), stack, mesh, "A");
+  auto& w = push(stack, mesh, "W", std::make_unique<IdwDeformer>(rbf_points(mesh), 2.0));
+  w.move_points(0, {2, 5}, {w.points(0).col(2) + Eigen::Vector3d(0.2, 0.4, 0), w.points(0).col(5) - Eigen::Vector3d(0, 0.3, 0.1)});
+  stack.update(mesh, "W");
+  auto& c = push(stack, mesh, "C", bunny_cage(mesh, 1.0));
+  c.move_points(0, {3, 6}, {c.points(0).col(3) + Eigen::Vector3d(0.5, 0.4, 0), c.points(0).col(6) - Eigen::Vector3d(0, 0.3, 0.6)});
+  stack.update(mesh, "C");
+  expect_matches_finite_differences(stack, "C", 0, mesh, 6);
+  expect_matches_finite_differences(stack, "W", 0, mesh, 6);  // through the cage
+  expect_matches_finite_differences(stack, "A", 0, mesh, 6);  // through the IDW and the cage
+}
+
 TEST(Sensitivity, ALoneLinearDeformerIsItsOwnLinearization) {
   Mesh mesh = test::bunny();
   WarpStack stack;
@@ -246,6 +274,8 @@ TEST(Deformer, DragThroughTheSeamReachesTargetsOnEveryKind) {
   RbfOptions gaussian;
   gaussian.radius = 3;
   kinds.push_back(std::make_unique<RbfDeformer>(rbf_points(mesh), gaussian));
+  kinds.push_back(std::make_unique<IdwDeformer>(rbf_points(mesh), 2.0));
+  kinds.push_back(bunny_cage(mesh, 1.0));
   for (auto& d : kinds) {
     const std::vector<Eigen::Vector3d> at = {mesh.positions().col(10), mesh.positions().col(900)};
     const std::vector<Eigen::Vector3d> to = {at[0] + Eigen::Vector3d(0.2, 0.1, 0), at[1] - Eigen::Vector3d(0, 0.3, 0.1)};

@@ -41,6 +41,8 @@ const std::map<std::string, json>& minimal_steps() {
       {"drag", {{"op", "drag"}, {"lattice", "body"}, {"points", {{{"vertex", 0}, {"to", {0, 0, 0}}}}}}},
       {"subdivide", {{"op", "subdivide"}, {"lattice", "body"}, {"cells", {{"indices", {{1, 1, 1}}}}}}},
       {"rbf", {{"op", "rbf"}, {"name", "morph"}, {"points", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}}},
+      {"idw", {{"op", "idw"}, {"name", "spread"}, {"points", {{0, 0, 0}, {1, 0, 0}}}}},
+      {"cage", {{"op", "cage"}, {"name", "shell"}, {"cage", "cage.obj"}}},  // kTetrahedron, beside the script
       {"remesh", {{"op", "remesh"}}},
       {"save", {{"op", "save"}, {"path", "mid.obj"}}},
       {"bcm",
@@ -52,6 +54,9 @@ const std::map<std::string, json>& minimal_steps() {
   };
   return steps;
 }
+
+// The cage of the minimal cage step: a closed, outward tetrahedron.
+const char* const kTetrahedron = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
 
 // The op's schema under $defs (its name, or "<op>_step").
 const json& op_schema(const OpInfo& op) {
@@ -160,6 +165,7 @@ TEST(OpTables, ValidateResolvedFillsTheTableDefaults) {
   for (const OpInfo* op : op_table()) script["steps"].push_back(minimal_steps().at(op->name()));
   const std::string dir = temp_folder("op_tables_resolved");
   write_file(dir + "/s.json", script.dump());
+  write_file(dir + "/cage.obj", kTetrahedron);
   std::string out, err;
   ASSERT_EQ(run_tool("validate --resolved " + quoted(dir + "/s.json"), &out, &err), 0) << err;
   const json resolved = json::parse(out);

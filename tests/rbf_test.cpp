@@ -176,6 +176,31 @@ TEST(Rbf, JacobiansMatchCentralDifferences) {
   }
 }
 
+// Wendland's compact kernel at a radius that covers a few neighbours: a sparse system
+// (UMFPACK, neighbours from the k-d tree), still PyGeM's map.
+TEST(Rbf, TheCompactKernelFactorsASparseSystemAndIsStillPyGemsMap) {
+  const Mesh mesh = test::bunny();
+  std::vector<Eigen::Vector3d> X, Y;
+  const Eigen::Matrix3Xd p = mesh.positions();
+  const double diag = (p.rowwise().maxCoeff() - p.rowwise().minCoeff()).norm();
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-0.01, 0.01);
+  for (Eigen::Index v = 0; v < p.cols(); v += 9) {
+    X.push_back(p.col(v));
+    Y.push_back(X.back() + diag * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+  }
+  const RbfOptions wendland{RbfKernel::Wendland, 0.15 * diag, 2};
+  RbfDeformer rbf(X, wendland);
+  const std::size_t n = X.size();
+  EXPECT_TRUE(rbf.sparse());
+  EXPECT_LT(rbf.matrix_entries(), n * n / 4) << n << " points";
+  rbf.move_points(0, all_ids(n), Y);
+  const Eigen::Matrix3Xd expected = pygem_rbf(X, Y, wendland, p);
+  double worst = 0;
+  for (Eigen::Index v = 0; v < p.cols(); ++v) worst = std::max(worst, (rbf.apply(p.col(v), nullptr) - expected.col(v)).norm());
+  EXPECT_LE(worst, 1e-9 * diag);
+}
+
 TEST(Rbf, ASingularLayoutIsRefusedNamingThePoints) {
   std::vector<Eigen::Vector3d> X = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}};
   test::expect_input_error([&] { RbfDeformer(X, RbfOptions{}); }, "control points 1 and 4 are at the same place");

@@ -40,7 +40,7 @@ struct MoveStep final : Step {
 KeyTable<MovePoint> point_keys() {
   using P = MovePoint;
   return {{key<P>("/index", schema_ref("point_index"), nullptr,
-                  "The control point: [i, j, k] on a lattice, its number on scattered points (rbf).",
+                  "The control point: [i, j, k] on a lattice, its number on scattered points (rbf, idw) and cages.",
                   [](auto& p) -> auto& { return p.index; })
                .required(),
            key<P>("/by", schema_ref("vec3"), nullptr, "Displacement added to the point's current position.",

@@ -4,7 +4,7 @@
 // on it through the Deformer seam.
 #include "common/numbers.h"
 #include "script/op.h"
-#include "script/selection.h"
+#include "script/scattered_steps.h"
 #include "warp/rbf_deformer.h"
 
 namespace ffd {
@@ -52,23 +52,11 @@ KeyTable<RbfStep> rbf_keys() {
 void RbfStep::check(ScriptChecks& checks) const {
   checks.check_new_lattice(name, pointer + "/name");
   if (!(options.radius > 0)) checks.fail(pointer + "/radius", "the radius must be positive");
-  const std::size_t count = points.select ? 0 : points.points.size();  // 0: known when the step runs
-  DeformerShape shape{"rbf", false, 0, -1, nullptr};
-  shape.unmovable = [count](int, const PointIndex& index) -> std::optional<std::string> {
-    const std::string text = count ? "control points 0 to " + std::to_string(count - 1) : "its control points' numbers";
-    if (index.grid || index.n < 0 || (count && static_cast<std::size_t>(index.n) >= count)) return text;
-    return std::nullopt;
-  };
-  checks.deformers[name] = shape;
+  checks.deformers[name] = scattered_shape("rbf", points.select ? 0 : points.points.size(), "control points");
 }
 
 void RbfStep::run(Scene& scene, StepContext& ctx) const {
-  std::vector<Eigen::Vector3d> rest = points.points;
-  if (points.select) {
-    const auto positions = scene.mesh.positions();
-    for (std::uint32_t v : select_vertices(*points.select, positions)) rest.push_back(positions.col(v));
-  }
-  auto made = std::make_unique<RbfDeformer>(std::move(rest), options);
+  auto made = std::make_unique<RbfDeformer>(rest_points(points, scene), options);
   RbfDeformer* raw = made.get();
   scene.stack.push(scene.mesh, name, std::move(made));
   scene.deformers[name] = raw;
@@ -79,6 +67,8 @@ void RbfStep::run(Scene& scene, StepContext& ctx) const {
   ctx.stats["k"] = options.k;
   ctx.stats["control_points"] = raw->num_points(0);
   ctx.stats["condition_number"] = raw->condition();
+  ctx.stats["factorization"] = raw->sparse() ? "sparse" : "dense";
+  ctx.stats["matrix_entries"] = raw->matrix_entries();
   char condition[32];
   std::snprintf(condition, sizeof condition, "%.3g", raw->condition());
   ctx.summary = "rbf '" + name + "': " + name_of(kKernels, options.kernel) + ", " + format_count(raw->num_points(0)) +

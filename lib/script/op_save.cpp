@@ -50,7 +50,7 @@ KeyTable<SaveStep> save_keys() {
                   "view); relative to the output folder.",
                   [](auto& s) -> auto& { return s.preview; }),
            key<S>("/lattice", schema_text(), nullptr,
-                  "Write this lattice's control net instead of the mesh (OBJ: its points as v, its edges as l), "
+                  "Write this lattice's control net instead of the mesh (OBJ: its points as v, its edges as l; a cage's as faces), "
                   "where the lattices created after it carry it.",
                   [](auto& s) -> auto& { return s.lattice; })
                .about("lattice"),
@@ -92,9 +92,12 @@ void SaveStep::check(ScriptChecks& checks) const {
   if (colors_by_level) checks.fail(pointer + "/colors", "colors are for meshes, not control nets");
 }
 
-/// OBJ text of a net: "v x y z" per point, "l a b" per edge (1-based).
-void write_net_obj(std::ostream& os, const Overlay& net, const std::string& title) {
-  os << "# " << title << ": " << net.points.size() << " points, " << net.edges.size() << " edges\n";
+/// OBJ text of a net: "v x y z" per point, then "f a b c ..." per face when the net is a
+/// surface (a cage), else "l a b" per edge (1-based).
+void write_net_obj(std::ostream& os, const Overlay& net, const std::vector<std::vector<std::uint32_t>>& faces,
+                   const std::string& title) {
+  os << "# " << title << ": " << net.points.size() << " points, "
+     << (faces.empty() ? std::to_string(net.edges.size()) + " edges\n" : std::to_string(faces.size()) + " faces\n");
   char line[128];
   for (const Eigen::Vector3d& p : net.points) {
     char* end = line;
@@ -103,7 +106,13 @@ void write_net_obj(std::ostream& os, const Overlay& net, const std::string& titl
     *end++ = '\n';
     os.write(line, end - line);
   }
-  for (const auto& e : net.edges) os << "l " << e[0] + 1 << ' ' << e[1] + 1 << '\n';
+  for (const auto& face : faces) {
+    os << 'f';
+    for (std::uint32_t v : face) os << ' ' << v + 1;
+    os << '\n';
+  }
+  if (faces.empty())
+    for (const auto& e : net.edges) os << "l " << e[0] + 1 << ' ' << e[1] + 1 << '\n';
 }
 
 void SaveStep::save_net(Scene& scene, StepContext& ctx) const {
@@ -118,12 +127,14 @@ void SaveStep::save_net(Scene& scene, StepContext& ctx) const {
   const std::size_t k = scene.stack.index_of(*lattice);
   for (Eigen::Vector3d& p : net.points) p = scene.stack.carry_from(k, p);
   StagedFile staged{std::filesystem::path(scene.output_folder) / path};
-  const std::size_t bytes = staged.write([&](std::ostream& os) { write_net_obj(os, net, title); });
+  const std::vector<std::vector<std::uint32_t>> faces = deformer.net_faces(l);
+  const std::size_t bytes = staged.write([&](std::ostream& os) { write_net_obj(os, net, faces, title); });
   scene.staged.push_back(std::move(staged));
   ctx.stats["path"] = path;
   ctx.stats["lattice"] = *lattice;
   ctx.stats["points"] = net.points.size();
   ctx.stats["edges"] = net.edges.size();
+  if (!faces.empty()) ctx.stats["faces"] = faces.size();
   ctx.stats["bytes"] = bytes;
   ctx.summary = "save " + path + ": " + title + ", " + format_count(net.points.size()) + " points, " +
                 format_count(net.edges.size()) + " edges";

@@ -19,7 +19,7 @@ const char* kGrammar = R"json({
     "index3": {"type": "array", "items": {"type": "integer"}, "minItems": 3, "maxItems": 3,
                "description": "A lattice index [i, j, k]; i runs along the box's first axis."},
     "point_index": {
-      "description": "A control point: [i, j, k] on a lattice, or its number n for scattered points (rbf).",
+      "description": "A control point: [i, j, k] on a lattice, or its number n for scattered points (rbf, idw) and cage vertices.",
       "oneOf": [{"$ref": "#/$defs/index3"}, {"type": "integer", "minimum": 0}]
     },
     "points": {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "mesh/mesh_io.h"
 #include "script/point_file.h"
 #include "script/selection.h"
 
@@ -176,6 +177,14 @@ void read_value(const json& j, PointSource& out, const ScriptPlace& place) {
     read_value(j["select"], select, place.at("/select"));
     out.select = std::move(select);
   }
+}
+
+void read_value(const json& j, MeshSource& out, const ScriptPlace& place) {
+  out = MeshSource{};
+  out.file = script_file(j, place, "mesh file");
+  const Mesh mesh = read_mesh(out.file);
+  for (Eigen::Index v = 0; v < mesh.positions().cols(); ++v) out.points.push_back(mesh.positions().col(v));
+  out.faces = mesh.faces();
 }
 
 }  // namespace ffd

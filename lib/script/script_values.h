@@ -93,6 +93,14 @@ struct PointSource {
   std::optional<Selection> select;
 };
 
+/// A mesh a step reads as its input, such as a cage (the cage op's `cage`), read with the
+/// script: its vertices and its polygons.
+struct MeshSource {
+  std::string file;  // as resolved against the script's folder
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::vector<std::uint32_t>> faces;
+};
+
 void read_value(const nlohmann::json& j, double& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, int& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, long long& out, const ScriptPlace& place);
@@ -104,6 +112,9 @@ void read_value(const nlohmann::json& j, Index3& out, const ScriptPlace& place);
 void read_value(const nlohmann::json& j, PointIndex& out, const ScriptPlace& place);
 /// \throw InputError as the selection or the file of positions does.
 void read_value(const nlohmann::json& j, PointSource& out, const ScriptPlace& place);
+/// \throw InputError at `place` for a missing file, as the mesh readers do for one they
+/// cannot read.
+void read_value(const nlohmann::json& j, MeshSource& out, const ScriptPlace& place);
 /// \throw InputError at "/rotate/axis" when the rotation axis is zero.
 void read_value(const nlohmann::json& j, Transform& out, const ScriptPlace& place);
 /// Reads selection files now. \throw InputError for a missing file (at "/file") or a

@@ -1,5 +1,5 @@
 // Deformer: a warp driven by control points, the one seam every control-point kind plugs
-// into (Bernstein and B-spline lattices, octree lattices; RBF, IDW and cages next). The
+// into (Bernstein and B-spline lattices, octree lattices, RBF, IDW and cages). The
 // ops (move, drag, save's nets and sensitivities, selections, previews) see only this.
 //
 // Named Deformer, not ControlWarp or Lattice: a lattice is one kind among several (RBF
@@ -90,6 +90,9 @@ public:
   virtual void movable_weights(int level, const Eigen::Vector3d& x, PointWeights& out) const = 0;
   /// Each edge of the level's net once (pairs of ids), for drawing and the save op's l lines.
   virtual std::vector<std::array<std::uint32_t, 2>> net_edges(int level) const = 0;
+  /// The level's net as polygons (ids), for kinds whose net is a surface (a cage): the
+  /// save op writes them as faces. None for the others.
+  virtual std::vector<std::vector<std::uint32_t>> net_faces(int level) const { return {}; }
   /// A length that sets the deformer's scale (its box's diagonal), for tolerances.
   virtual double scale() const = 0;
 

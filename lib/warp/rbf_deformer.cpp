@@ -1,19 +1,23 @@
 #include "warp/rbf_deformer.h"
 
+#include <Eigen/Sparse>
+#include <Eigen/UmfPackSupport>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
-#include <tuple>
 
 #include "common/errors.h"
 #include "common/numbers.h"
+#include "warp/point_tree.h"
 
 namespace ffd {
 namespace {
 
 /// Below this reciprocal condition number the system is refused as singular.
 constexpr double kMinRcond = 1e-15;
+/// Control points per block of the vectorized kernel sums (the arrays live on the stack).
+constexpr int kBlock = 128;
+using BlockArray = Eigen::Array<double, Eigen::Dynamic, 1, 0, kBlock, 1>;
 
 /// s^k log s and, in `over_r`, its derivative by r over r (s = r / R), both 0 at s = 0.
 double power_log(double s, int k, double R, double* over_r) {
@@ -24,6 +28,55 @@ double power_log(double s, int k, double R, double* over_r) {
   const double log_s = std::log(s);
   if (over_r) *over_r = std::pow(s, k - 2) * (k * log_s + 1) / (R * R);
   return std::pow(s, k) * log_s;
+}
+
+/// s^k for a small integer k (negative: of 1 / s), by multiplication: vectorizes, unlike pow.
+BlockArray power(const BlockArray& s, int k) {
+  const BlockArray base = k < 0 ? BlockArray(s.inverse()) : s;
+  BlockArray out = BlockArray::Ones(s.size());
+  for (int i = 0; i < std::abs(k); ++i) out *= base;
+  return out;
+}
+
+/// phi and, when `over_r` is given, phi'(r) / r of a block of squared distances: the
+/// vectorized form of rbf_kernel (Eigen's packet exp, log and sqrt).
+void kernel_block(const RbfOptions& o, const BlockArray& r2, BlockArray& phi, BlockArray* over_r) {
+  const double R = o.radius, R2 = R * R;
+  switch (o.kernel) {
+    case RbfKernel::Gaussian:
+      phi = (-r2 / R2).exp();
+      if (over_r) *over_r = -2 / R2 * phi;
+      return;
+    case RbfKernel::MultiQuadratic:
+      phi = (r2 + R2).sqrt();
+      if (over_r) *over_r = phi.inverse();
+      return;
+    case RbfKernel::InvMultiQuadratic:
+      phi = (r2 + R2).rsqrt();
+      if (over_r) *over_r = -phi * phi * phi;
+      return;
+    case RbfKernel::Wendland: {
+      const BlockArray s = r2.sqrt() / R, t = (1 - s).max(0.0), t3 = t * t * t;
+      phi = t3 * t * (4 * s + 1);
+      if (over_r) *over_r = -20 / R2 * t3;
+      return;
+    }
+    case RbfKernel::Polyharmonic:
+      if (o.k % 2 == 1) {
+        const BlockArray s = r2.sqrt() / R;
+        phi = power(s, o.k);
+        if (over_r) *over_r = (r2 > 0).select(o.k / R2 * power(s, o.k - 2), 0.0);
+        return;
+      }
+      [[fallthrough]];
+    case RbfKernel::ThinPlate: {
+      // s^k log s, log s = log(s^2) / 2; 0 at s = 0.
+      const BlockArray s = r2.sqrt() / R, log_s = 0.5 * (r2 / R2).log();
+      phi = (r2 > 0).select(power(s, o.k) * log_s, 0.0);
+      if (over_r) *over_r = (r2 > 0).select(power(s, o.k - 2) * (o.k * log_s + 1) / R2, 0.0);
+      return;
+    }
+  }
 }
 
 }  // namespace
@@ -66,46 +119,112 @@ double rbf_kernel(const RbfOptions& o, double r, double* over_r) {
   return phi;
 }
 
+/// The factorized system H: dense LU for global kernels, UMFPACK's sparse LU for compact
+/// ones. Also the interface Eigen's 1-norm condition estimator (Hager/Higham, the one
+/// PartialPivLU::rcond uses) needs: solve, and adjoint() solving with H^T = H.
+struct RbfDeformer::System {
+  using MatrixType = Eigen::MatrixXd;
+  using Scalar = double;
+  using RealScalar = double;
+  Eigen::PartialPivLU<Eigen::MatrixXd> dense;
+  Eigen::SparseMatrix<double> matrix;  // UMFPACK's factor refers to its matrix: kept here
+  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> sparse;
+  bool is_sparse = false;
+  Eigen::Index size = 0;
+
+  Eigen::Index rows() const { return size; }
+  Eigen::Index cols() const { return size; }
+  const System& adjoint() const { return *this; }  // H is symmetric
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const {
+    return is_sparse ? Eigen::MatrixXd(sparse.solve(rhs)) : Eigen::MatrixXd(dense.solve(rhs));
+  }
+};
+
 RbfDeformer::RbfDeformer(std::vector<Eigen::Vector3d> rest, const RbfOptions& options)
-    : options_(options), rest_(std::move(rest)), current_(rest_) {
+    : ScatteredDeformer(std::move(rest), "control points"), options_(options), system_(std::make_unique<System>()) {
   check_layout();
   const Eigen::Index n = static_cast<Eigen::Index>(rest_.size());
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n + 4, n + 4);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (Eigen::Index j = 0; j < n; ++j)
-      H(i, j) = rbf_kernel(options_, (rest_[static_cast<std::size_t>(i)] - rest_[static_cast<std::size_t>(j)]).norm());
-    H(i, n) = H(n, i) = 1;
-    H.block<1, 3>(i, n + 1) = rest_[static_cast<std::size_t>(i)].transpose();
-    H.block<3, 1>(n + 1, i) = rest_[static_cast<std::size_t>(i)];
+  rest_matrix_.resize(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) rest_matrix_.col(i) = rest_[static_cast<std::size_t>(i)];
+  if (options_.kernel == RbfKernel::Wendland) {
+    tree_ = std::make_unique<PointTree>(rest_);
+    factorize_sparse();
+  } else {
+    factorize_dense();
   }
-  spacing_ = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < rest_.size(); ++i)
-    for (std::size_t j = i + 1; j < rest_.size(); ++j) spacing_ = std::min(spacing_, (rest_[i] - rest_[j]).norm());
-  lu_.compute(H);
-  const double rcond = lu_.rcond();
+  coefficients_ = Eigen::MatrixXd::Zero(n + 4, 3);
+}
+
+RbfDeformer::~RbfDeformer() = default;
+
+namespace {
+
+/// H's polynomial rows and columns: [1 x y z] per point.
+template <class Set>
+void set_polynomial(const Eigen::Matrix3Xd& points, Set&& set) {
+  const Eigen::Index n = points.cols();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    set(i, n, 1.0), set(n, i, 1.0);
+    for (int a = 0; a < 3; ++a) set(i, n + 1 + a, points(a, i)), set(n + 1 + a, i, points(a, i));
+  }
+}
+
+}  // namespace
+
+void RbfDeformer::factorize_dense() {
+  const Eigen::Index n = rest_matrix_.cols();
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n + 4, n + 4);
+  Eigen::VectorXd row(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    kernel_values(rest_matrix_.col(i), nullptr, n, row.data());
+    H.row(i).head(n) = row.transpose();
+  }
+  set_polynomial(rest_matrix_, [&](Eigen::Index r, Eigen::Index c, double v) { H(r, c) = v; });
+  entries_ = static_cast<std::size_t>(H.size());
+  system_->size = n + 4;
+  system_->dense.compute(H);
+  check_condition(H.cwiseAbs().colwise().sum().maxCoeff(), true);
+}
+
+void RbfDeformer::factorize_sparse() {
+  const Eigen::Index n = rest_matrix_.cols();
+  std::vector<Eigen::Triplet<double>> entries;
+  std::vector<std::pair<std::uint32_t, double>> near;
+  std::vector<std::uint32_t> ids;
+  std::vector<double> values;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    tree_->within(rest_matrix_.col(i), options_.radius, near);
+    ids.clear();
+    for (const auto& m : near) ids.push_back(m.first);
+    values.resize(ids.size());
+    kernel_values(rest_matrix_.col(i), ids.data(), static_cast<Eigen::Index>(ids.size()), values.data());
+    for (std::size_t t = 0; t < ids.size(); ++t) entries.emplace_back(i, ids[t], values[t]);
+  }
+  set_polynomial(rest_matrix_, [&](Eigen::Index r, Eigen::Index c, double v) { entries.emplace_back(r, c, v); });
+  entries_ = entries.size();
+  Eigen::SparseMatrix<double>& H = system_->matrix;
+  H.resize(n + 4, n + 4);
+  H.setFromTriplets(entries.begin(), entries.end());
+  system_->size = n + 4;
+  system_->is_sparse = true;
+  system_->sparse.compute(H);
+  double norm = 0;  // the 1-norm: the largest column sum
+  for (Eigen::Index j = 0; j < H.outerSize(); ++j) norm = std::max(norm, H.col(j).cwiseAbs().sum());
+  check_condition(norm, system_->sparse.info() == Eigen::Success);
+}
+
+void RbfDeformer::check_condition(double norm, bool factorized) {
+  const double rcond = factorized ? Eigen::internal::rcond_estimate_helper(norm, *system_) : 0;
   condition_ = rcond > 0 ? 1 / rcond : std::numeric_limits<double>::infinity();
   if (!(rcond >= kMinRcond))
     throw InputError("the RBF system of these control points is singular (estimated condition number " +
                          format_number(condition_) + ")",
                      {"points"});
-  coefficients_ = Eigen::MatrixXd::Zero(n + 4, 3);
 }
 
 void RbfDeformer::check_layout() const {
   const std::size_t n = rest_.size();
   if (n < 4) throw InputError("an RBF needs at least 4 control points (it has " + std::to_string(n) + ")", {"points"});
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  const auto less = [&](std::size_t a, std::size_t b) {
-    const Eigen::Vector3d &p = rest_[a], &q = rest_[b];
-    return std::tie(p[0], p[1], p[2], a) < std::tie(q[0], q[1], q[2], b);
-  };
-  std::sort(order.begin(), order.end(), less);
-  for (std::size_t i = 1; i < n; ++i)
-    if (rest_[order[i]] == rest_[order[i - 1]])
-      throw InputError("control points " + std::to_string(order[i - 1]) + " and " + std::to_string(order[i]) +
-                           " are at the same place",
-                       {"points"});
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : rest_) centroid += p / static_cast<double>(n);
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
@@ -117,49 +236,41 @@ void RbfDeformer::check_layout() const {
                      {"points"});
 }
 
-Eigen::Matrix3Xd RbfDeformer::points(int) const {
-  Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(current_.size()));
-  for (std::size_t i = 0; i < current_.size(); ++i) out.col(static_cast<Eigen::Index>(i)) = current_[i];
-  return out;
-}
-
-Eigen::Matrix3Xd RbfDeformer::points(int, const std::vector<std::size_t>& ids) const {
-  Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(ids.size()));
-  for (std::size_t i = 0; i < ids.size(); ++i) out.col(static_cast<Eigen::Index>(i)) = current_[ids[i]];
-  return out;
-}
-
-std::optional<std::size_t> RbfDeformer::find_point(int, const PointIndex& index) const {
-  if (index.grid || index.n < 0 || static_cast<std::size_t>(index.n) >= rest_.size()) return std::nullopt;
-  return static_cast<std::size_t>(index.n);
-}
-
-std::string RbfDeformer::missing_point(int level, const PointIndex& index) const {
-  if (index.grid) return "expected a control point index (an integer), found " + index.text();
-  return "point " + index.text() + " is not a control point (" + movable_text(level) + ")";
-}
-
-std::string RbfDeformer::movable_text(int) const {
-  return "control points 0 to " + std::to_string(rest_.size() - 1);
-}
-
-MoveReport RbfDeformer::move_points(int, const std::vector<std::size_t>& ids, const std::vector<Eigen::Vector3d>& targets) {
-  for (std::size_t i = 0; i < ids.size(); ++i) current_.at(ids[i]) = targets[i];
+void RbfDeformer::update_after_move() {
   const Eigen::Index n = static_cast<Eigen::Index>(rest_.size());
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n + 4, 3);
-  for (Eigen::Index i = 0; i < n; ++i) rhs.row(i) = (current_[static_cast<std::size_t>(i)] - rest_[static_cast<std::size_t>(i)]).transpose();
-  moved_ = !rhs.isZero(0.0);
-  coefficients_ = moved_ ? Eigen::MatrixXd(lu_.solve(rhs)) : Eigen::MatrixXd::Zero(n + 4, 3);
-  changed_ = changed_ || !ids.empty();
-  MoveReport report;
-  report.points_moved = ids.size();
-  return report;
+  for (Eigen::Index i = 0; i < n; ++i)
+    rhs.row(i) = (current_[static_cast<std::size_t>(i)] - rest_[static_cast<std::size_t>(i)]).transpose();
+  coefficients_ = moved() ? system_->solve(rhs) : Eigen::MatrixXd::Zero(n + 4, 3);
+}
+
+void RbfDeformer::kernel_values(const Eigen::Vector3d& x, const std::uint32_t* ids, Eigen::Index count,
+                                double* out) const {
+  BlockArray e[3], phi;
+  for (Eigen::Index b = 0; b < count; b += kBlock) {
+    const Eigen::Index m = std::min<Eigen::Index>(kBlock, count - b);
+    for (int a = 0; a < 3; ++a) e[a].resize(m);
+    for (Eigen::Index t = 0; t < m; ++t)
+      for (int a = 0; a < 3; ++a) e[a][t] = x[a] - rest_matrix_(a, ids ? ids[b + t] : b + t);
+    kernel_block(options_, e[0] * e[0] + e[1] * e[1] + e[2] * e[2], phi, nullptr);
+    std::copy(phi.data(), phi.data() + m, out + b);
+  }
 }
 
 Eigen::VectorXd RbfDeformer::basis_row(const Eigen::Vector3d& x) const {
   const Eigen::Index n = static_cast<Eigen::Index>(rest_.size());
-  Eigen::VectorXd b(n + 4);
-  for (Eigen::Index i = 0; i < n; ++i) b[i] = rbf_kernel(options_, (x - rest_[static_cast<std::size_t>(i)]).norm());
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n + 4);
+  if (tree_) {
+    std::vector<std::pair<std::uint32_t, double>> near;
+    tree_->within(x, options_.radius, near);
+    std::vector<std::uint32_t> ids;
+    for (const auto& m : near) ids.push_back(m.first);
+    std::vector<double> values(ids.size());
+    kernel_values(x, ids.data(), static_cast<Eigen::Index>(ids.size()), values.data());
+    for (std::size_t t = 0; t < ids.size(); ++t) b[ids[t]] = values[t];
+  } else {
+    kernel_values(x, nullptr, n, b.data());
+  }
   b[n] = 1;
   b.tail<3>() = x;
   return b;
@@ -167,54 +278,51 @@ Eigen::VectorXd RbfDeformer::basis_row(const Eigen::Vector3d& x) const {
 
 void RbfDeformer::movable_weights(int, const Eigen::Vector3d& x, PointWeights& out) const {
   out.clear();
-  const Eigen::VectorXd w = lu_.solve(basis_row(x));  // H^-1 b(x) = H^-T b(x): H is symmetric
+  const Eigen::VectorXd w = system_->solve(basis_row(x));  // H^-1 b(x) = H^-T b(x): H is symmetric
   for (std::size_t i = 0; i < rest_.size(); ++i)
     if (w[static_cast<Eigen::Index>(i)] != 0) out.emplace_back(i, w[static_cast<Eigen::Index>(i)]);
 }
 
-double RbfDeformer::scale() const {
-  Eigen::Vector3d lo = rest_[0], hi = rest_[0];
-  for (const Eigen::Vector3d& p : rest_) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  return (hi - lo).norm();
+void RbfDeformer::add_terms(const Eigen::Vector3d& x, const std::uint32_t* ids, Eigen::Index count, Eigen::Vector3d& d,
+                            Eigen::Matrix3d* jacobian) const {
+  // D(x) += sum gamma_i phi(r_i); dD/dx += sum gamma_i (phi'/r)(x - x_i)^T, per block.
+  BlockArray e[3], g[3], phi, over_r;
+  for (Eigen::Index b = 0; b < count; b += kBlock) {
+    const Eigen::Index m = std::min<Eigen::Index>(kBlock, count - b);
+    for (int a = 0; a < 3; ++a) e[a].resize(m), g[a].resize(m);
+    for (Eigen::Index t = 0; t < m; ++t) {
+      const Eigen::Index i = ids ? ids[b + t] : b + t;
+      for (int a = 0; a < 3; ++a) e[a][t] = x[a] - rest_matrix_(a, i), g[a][t] = coefficients_(i, a);
+    }
+    const BlockArray r2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+    kernel_block(options_, r2, phi, jacobian ? &over_r : nullptr);
+    for (int a = 0; a < 3; ++a) d[a] += (phi * g[a]).sum();
+    if (!jacobian) continue;
+    for (int a = 0; a < 3; ++a) {
+      const BlockArray og = over_r * g[a];
+      for (int c = 0; c < 3; ++c) (*jacobian)(a, c) += (og * e[c]).sum();
+    }
+  }
 }
 
 Eigen::Vector3d RbfDeformer::apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const {
   if (jacobian) jacobian->setIdentity();
   const Eigen::Index n = static_cast<Eigen::Index>(rest_.size());
-  if (!moved_) return x;  // unmoved: the identity, bit for bit
-  // D(x) = sum gamma_i phi(r_i) + c + Q x; dD/dx = sum gamma_i (phi'/r)(x - x_i)^T + Q.
+  if (!moved()) return x;  // unmoved: the identity, bit for bit
+  // The polynomial part c + Q x, then the kernel terms.
   Eigen::Vector3d d = coefficients_.row(n).transpose() + coefficients_.bottomRows<3>().transpose() * x;
   if (jacobian) *jacobian += coefficients_.bottomRows<3>().transpose();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::Vector3d e = x - rest_[static_cast<std::size_t>(i)];
-    double over_r = 0;
-    const double phi = rbf_kernel(options_, e.norm(), jacobian ? &over_r : nullptr);
-    d += phi * coefficients_.row(i).transpose();
-    if (jacobian) *jacobian += (over_r * coefficients_.row(i).transpose()) * e.transpose();
+  if (tree_) {
+    thread_local std::vector<std::pair<std::uint32_t, double>> near;
+    thread_local std::vector<std::uint32_t> ids;
+    tree_->within(x, options_.radius, near);
+    ids.clear();
+    for (const auto& m : near) ids.push_back(m.first);
+    add_terms(x, ids.data(), static_cast<Eigen::Index>(ids.size()), d, jacobian);
+  } else {
+    add_terms(x, nullptr, n, d, jacobian);
   }
   return x + d;
-}
-
-void RbfDeformer::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
-                        const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
-                        Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const {
-  std::size_t folded = 0;
-  const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(ids.size());
-#pragma omp parallel for schedule(static) reduction(+ : folded)
-  for (std::ptrdiff_t t = 0; t < count; ++t) {
-    const std::uint32_t v = ids[static_cast<std::size_t>(t)];
-    Eigen::Matrix3d J;
-    out_pos.col(v) = apply(in_pos.col(v), &J);
-    out_nrm.col(v) = J.isIdentity(0.0) ? Eigen::Vector3d(in_nrm.col(v)) : transformed_normal(J, in_nrm.col(v));
-    if (J.determinant() <= 0) ++folded;
-  }
-  counts.folded += folded;
-  counts.evaluated += ids.size();
-}
-
-void RbfDeformer::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, std::vector<std::uint32_t>& ids) const {
-  if (!changed_) return;
-  for (Eigen::Index v = 0; v < in_pos.cols(); ++v) ids.push_back(static_cast<std::uint32_t>(v));
 }
 
 }  // namespace ffd

@@ -11,19 +11,27 @@
 //   bit.
 // - The system is factorized once, when the deformer is made (one control-point layout);
 //   a move changes only the right-hand side: one solve with the factor, then evaluation.
+//   Global kernels: a dense LU. The compact kernel (Wendland's): a sparse LU (UMFPACK)
+//   of H assembled from a k-d tree's radius searches, and each evaluation sums over the
+//   control points within the radius only (the same terms, the others being exactly 0).
 // - Linear in the moved points: dM(x)/dy_j = w_j(x) I, w(x) = H^-1 b(x) restricted to the
 //   points, b(x) = [phi(|x - x_i|); 1; x] (H is symmetric).
+// - Global, compact kernel included: a move changes every coefficient through the
+//   coupled solve and the polynomial, so it re-evaluates every point.
 // - The kernels and their parameters are PyGeM's (rbf_factory.py), under the same names.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Dense>
 
-#include "warp/deformer.h"
+#include "warp/scattered_deformer.h"
 
 namespace ffd {
+
+class PointTree;
 
 enum class RbfKernel {
   Gaussian,           // gaussian_spline: exp(-r^2 / R^2)
@@ -44,60 +52,53 @@ struct RbfOptions {
 /// r = 0 where the kernel has no derivative there).
 double rbf_kernel(const RbfOptions& options, double r, double* dphi_over_r = nullptr);
 
-class RbfDeformer : public Deformer {
+class RbfDeformer : public ScatteredDeformer {
 public:
   /// Control points at `rest`, factorized once.
   /// \throw InputError about "points": fewer than 4 points, two equal points (naming
   /// them), points in one plane (the linear polynomial needs them to span 3D), or a
   /// system too ill-conditioned to solve (its condition number).
   RbfDeformer(std::vector<Eigen::Vector3d> rest, const RbfOptions& options);
+  ~RbfDeformer() override;
 
   const RbfOptions& options() const { return options_; }
-  /// The estimated condition number of the system H (reciprocal of LU's rcond, 1-norm).
+  /// The estimated condition number of the system H (1-norm, Hager's estimator: the
+  /// reciprocal of LAPACK's rcond).
   double condition() const { return condition_; }
+  /// Whether the system is sparse (a compact kernel) and how many entries its matrix has.
+  bool sparse() const { return tree_ != nullptr; }
+  std::size_t matrix_entries() const { return entries_; }
 
-  // Deformer: one level, points named by a plain index 0..n-1, all movable.
   std::string kind() const override { return "rbf"; }
-  std::size_t num_points(int) const override { return rest_.size(); }
-  Eigen::Matrix3Xd points(int level) const override;
-  Eigen::Matrix3Xd points(int level, const std::vector<std::size_t>& ids) const override;
-  bool grid_indexed() const override { return false; }
-  std::optional<std::size_t> find_point(int, const PointIndex& index) const override;
-  std::string missing_point(int level, const PointIndex& index) const override;
-  PointIndex point_index(int, std::size_t id) const override { return {false, {0, 0, 0}, static_cast<long long>(id)}; }
-  std::string movable_text(int) const override;
-  MoveReport move_points(int level, const std::vector<std::size_t>& ids,
-                         const std::vector<Eigen::Vector3d>& targets) override;
   void movable_weights(int level, const Eigen::Vector3d& x, PointWeights& out) const override;
-  std::vector<std::array<std::uint32_t, 2>> net_edges(int) const override { return {}; }
-  /// The diagonal of the control points' bounding box.
-  double scale() const override;
-
-  // Warp
+  using ScatteredDeformer::apply;
   Eigen::Vector3d apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const override;
-  void apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
-             const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
-             Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const override;
-  /// Every point: a move changes every coefficient (the cardinal functions are global,
-  /// compact kernels included, because of the polynomial and the coupled solve).
-  void changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, std::vector<std::uint32_t>& ids) const override;
-  bool has_changes() const override { return changed_; }
-  void clear_changes() override { changed_ = false; }
-  /// The smallest distance between two control points: the finest scale of the control.
-  double feature_size() const override { return spacing_; }
 
 private:
+  struct System;
+  void update_after_move() override;
+  void check_layout() const;
+  /// Assemble and factorize H, dense or sparse.
+  void factorize_dense();
+  void factorize_sparse();
+  /// Estimates H's condition from its 1-norm. \throw InputError when it is singular.
+  void check_condition(double norm, bool factorized);
+  /// phi(|x - x_i|) of control points `ids` (or, when null, of the first `count`) into out.
+  void kernel_values(const Eigen::Vector3d& x, const std::uint32_t* ids, Eigen::Index count, double* out) const;
   /// b(x) = [phi(|x - x_i|); 1; x].
   Eigen::VectorXd basis_row(const Eigen::Vector3d& x) const;
-  void check_layout() const;
+  /// Adds the kernel terms of control points `ids` (or, when null, of the first `count`)
+  /// to the displacement d and its Jacobian.
+  void add_terms(const Eigen::Vector3d& x, const std::uint32_t* ids, Eigen::Index count, Eigen::Vector3d& d,
+                 Eigen::Matrix3d* jacobian) const;
 
   RbfOptions options_;
-  std::vector<Eigen::Vector3d> rest_, current_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
-  Eigen::MatrixXd coefficients_;  // (n + 4) x 3: gamma, c, Q^T of the displacement
-  double condition_ = 0, spacing_ = 0;
-  bool moved_ = false;  // some point is off its rest position (else the coefficients are zero)
-  bool changed_ = false;
+  std::unique_ptr<System> system_;
+  std::unique_ptr<PointTree> tree_;  // compact kernels: the control points within a radius
+  Eigen::Matrix3Xd rest_matrix_;     // rest_ as columns
+  Eigen::MatrixXd coefficients_;     // (n + 4) x 3: gamma, c, Q^T of the displacement
+  double condition_ = 0;
+  std::size_t entries_ = 0;
 };
 
 }  // namespace ffd
