@@ -13,7 +13,7 @@
 #include "bcm/bcm_options.h"
 #include "bcm/cotan_laplacian.h"
 #include "bcm/kharmonic_system.h"
-#include "bcm/supernodal_cholesky.h"
+#include "common/supernodal_cholesky.h"
 #include "bcm_test_util.h"
 #include "test_meshes.h"
 

@@ -21,7 +21,7 @@
 #include "bcm/bcm_regions.h"
 #include "bcm/cotan_laplacian.h"
 #include "bcm/kharmonic_system.h"
-#include "bcm/supernodal_cholesky.h"
+#include "common/supernodal_cholesky.h"
 #include "bench.h"
 #include "common/errors.h"
 #include "common/timer.h"

@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "bcm/anisotropic_laplacian.h"
-#include "bcm/supernodal_cholesky.h"
+#include "common/supernodal_cholesky.h"
 #include "common/errors.h"
 #include "common/timer.h"
 

@@ -2,11 +2,10 @@
 
 #include <Eigen/Geometry>
 
-#include <x86intrin.h>
-#include <sleef.h>
-
 #include <algorithm>
 #include <cmath>
+
+#include "common/vector_math.h"
 
 namespace ffd {
 
@@ -15,21 +14,6 @@ namespace {
 // The angle between a and b: atan2 of |a×b| and a·b is accurate for every angle, unlike acos.
 double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
-}
-
-// atan2 of n pairs (n a multiple of the width) by SLEEF's vector atan2 (1 ulp): four
-// lanes where the build has AVX, two (SSE2, on every x86-64) otherwise; both dispatch to
-// the best variant of the CPU at run time. glibc's scalar atan2 saves and restores the
-// rounding mode on every call: 14 ns against SLEEF's 3.5 ns here, and reading an OBJ
-// computes two per triangle.
-void atan2_lanes(const double* y, const double* x, double* out, int n) {
-#ifdef __AVX__
-  for (int i = 0; i < n; i += 4)
-    _mm256_storeu_pd(out + i, Sleef_atan2d4_u10(_mm256_loadu_pd(y + i), _mm256_loadu_pd(x + i)));
-#else
-  for (int i = 0; i < n; i += 2)
-    _mm_storeu_pd(out + i, Sleef_atan2d2_u10(_mm_loadu_pd(y + i), _mm_loadu_pd(x + i)));
-#endif
 }
 
 // Triangles whose angles are computed together. Each triangle's largest angle (at the
@@ -60,7 +44,7 @@ struct TriangleBatch {
   }
   /// Adds the queued triangles' normals, weighted by their angles, to `out`.
   void flush(Eigen::Ref<Eigen::Matrix3Xd> out) {
-    atan2_lanes(y, x, angle, 2 * count + (2 * count) % 4);
+    atan2_all(y, x, angle, static_cast<std::size_t>(2 * count));
     for (int t = 0; t < count; ++t) {
       const int b = big[t];
       double w[3];

@@ -1,4 +1,4 @@
-#include "bcm/supernodal_cholesky.h"
+#include "common/supernodal_cholesky.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
