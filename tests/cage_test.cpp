@@ -50,13 +50,12 @@ Cage dented_cage() {
 }
 
 MeanValueCage triangles_of(const Cage& c) {
-  MeanValueCage m;
-  m.points.resize(3, static_cast<Eigen::Index>(c.points.size()));
-  for (std::size_t i = 0; i < c.points.size(); ++i) m.points.col(static_cast<Eigen::Index>(i)) = c.points[i];
+  Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(c.points.size()));
+  for (std::size_t i = 0; i < c.points.size(); ++i) points.col(static_cast<Eigen::Index>(i)) = c.points[i];
+  std::vector<std::array<std::uint32_t, 3>> triangles;
   for (const auto& f : c.faces)
-    for (std::size_t i = 1; i + 1 < f.size(); ++i) m.triangles.push_back({f[0], f[i], f[i + 1]});
-  m.diagonal = (m.points.rowwise().maxCoeff() - m.points.rowwise().minCoeff()).norm();
-  return m;
+    for (std::size_t i = 1; i + 1 < f.size(); ++i) triangles.push_back({f[0], f[i], f[i + 1]});
+  return mean_value_cage(points, triangles);
 }
 
 /// Mean value coordinates by the mean vector of each spherical triangle (x off the cage).
@@ -126,9 +125,14 @@ TEST(MeanValue, TheLimitsOnAFaceAnEdgeAndAVertexAreBarycentric) {
 
 TEST(MeanValue, TheWindingNumberTellsInsideFromOutside) {
   const MeanValueCage cage = triangles_of(dented_cage());
-  EXPECT_NEAR(winding_number(cage, {1.0, 0.5, 0.3}), 1.0, 1e-12);
-  EXPECT_NEAR(winding_number(cage, {1.0, 0.5, 0.9}), 0.0, 1e-12);  // above the dent, under the box's top
-  EXPECT_NEAR(winding_number(cage, {3.0, 0.5, 0.3}), 0.0, 1e-12);
+  Eigen::VectorXd w;
+  for (const auto& [x, expected] : std::vector<std::pair<Eigen::Vector3d, double>>{
+           {{1.0, 0.5, 0.3}, 1.0}, {{1.0, 0.5, 0.9}, 0.0} /* above the dent, under the box's top */, {{3.0, 0.5, 0.3}, 0.0}}) {
+    EXPECT_NEAR(winding_number(cage, x), expected, 1e-12) << x.transpose();
+    double winding = -1;
+    mean_value_coordinates(cage, x, w, nullptr, &winding);
+    EXPECT_NEAR(winding, expected, 1e-12) << "with the coordinates, at " << x.transpose();
+  }
 }
 
 std::vector<std::size_t> all_ids(std::size_t n) {
@@ -182,7 +186,9 @@ TEST(Cage, BoundPointsGiveTheFreshEvaluationsPositions) {
   Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Random(3, 50).cwiseAbs();
   Eigen::Matrix3Xd n = Eigen::Matrix3Xd::Zero(3, 50);
   n.row(2).setOnes();
-  ASSERT_EQ(cage.bind(x, true, 1 << 20), CageDeformer::Binding::WeightsAndGradients);
+  std::size_t outside = 0;
+  ASSERT_EQ(cage.bind(x, true, 1 << 20, outside), CageDeformer::Binding::WeightsAndGradients);
+  EXPECT_EQ(outside, 0u);
   cage.move_points(0, {3, 6}, {c.points[3] + Eigen::Vector3d(0.3, 0.1, 0), c.points[6] - Eigen::Vector3d(0, 0.2, 0.1)});
   std::vector<std::uint32_t> ids(50);
   for (std::uint32_t i = 0; i < 50; ++i) ids[i] = i;

@@ -58,8 +58,8 @@ void CageStep::run(Scene& scene, StepContext& ctx) const {
   CageDeformer* raw = made.get();
   const auto positions = scene.mesh.positions();
   const bool normals = !scene.mesh.normals().isZero(0.0);
-  const CageDeformer::Binding binding = raw->bind(positions, normals, kMaxBindingBytes);
-  const std::size_t outside = raw->count_outside(positions);
+  std::size_t outside = 0;
+  const CageDeformer::Binding binding = raw->bind(positions, normals, kMaxBindingBytes, outside);
   scene.stack.push(scene.mesh, name, std::move(made));
   scene.deformers[name] = raw;
   ctx.stats["name"] = name;

@@ -1,6 +1,7 @@
 #include "warp/cage_deformer.h"
 
 #include <map>
+#include <type_traits>
 
 #include "common/errors.h"
 
@@ -54,39 +55,48 @@ CageDeformer::CageDeformer(std::vector<Eigen::Vector3d> rest, std::vector<std::v
   check_faces(faces_);
   check_closed_and_oriented(faces_);
   const Eigen::Index m = static_cast<Eigen::Index>(rest_.size());
-  rest_cage_.points.resize(3, m);
-  for (Eigen::Index j = 0; j < m; ++j) rest_cage_.points.col(j) = rest_[static_cast<std::size_t>(j)];
-  rest_cage_.diagonal = scale();
+  Eigen::Matrix3Xd points(3, m);
+  for (Eigen::Index j = 0; j < m; ++j) points.col(j) = rest_[static_cast<std::size_t>(j)];
+  std::vector<std::array<std::uint32_t, 3>> triangles;
   for (const auto& face : faces_)  // a fan from the first corner
-    for (std::size_t i = 1; i + 1 < face.size(); ++i) rest_cage_.triangles.push_back({face[0], face[i], face[i + 1]});
+    for (std::size_t i = 1; i + 1 < face.size(); ++i) triangles.push_back({face[0], face[i], face[i + 1]});
+  rest_cage_ = mean_value_cage(std::move(points), std::move(triangles));
   moves_ = Eigen::Matrix3Xd::Zero(3, m);
 }
 
 void CageDeformer::update_after_move() {
   for (Eigen::Index j = 0; j < moves_.cols(); ++j)
     moves_.col(j) = current_[static_cast<std::size_t>(j)] - rest_[static_cast<std::size_t>(j)];
+  moves_float_ = moves_.cast<float>();
 }
 
 CageDeformer::Binding CageDeformer::bind(const Eigen::Ref<const Eigen::Matrix3Xd>& positions, bool gradients,
-                                         std::size_t max_bytes) {
+                                         std::size_t max_bytes, std::size_t& outside) {
   const double pairs = static_cast<double>(positions.cols()) * static_cast<double>(rest_.size());
   gradients = gradients && 20 * pairs <= static_cast<double>(max_bytes);
   bound_positions_.resize(3, 0);
   bound_weights_.resize(0, 0);
   bound_gradients_.resize(0, 0);
-  if (8 * pairs > static_cast<double>(max_bytes)) return Binding::None;
+  if (8 * pairs > static_cast<double>(max_bytes)) {
+    outside = count_outside(positions);
+    return Binding::None;
+  }
   const Eigen::Index m = static_cast<Eigen::Index>(rest_.size()), n = positions.cols();
   bound_positions_ = positions;
   bound_weights_.resize(m, n);
   if (gradients) bound_gradients_.resize(3 * m, n);
-#pragma omp parallel for schedule(dynamic, 64)
+  std::size_t out = 0;
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : out)
   for (Eigen::Index v = 0; v < n; ++v) {
     Eigen::VectorXd w;
     Eigen::Matrix3Xd g;
-    mean_value_coordinates(rest_cage_, positions.col(v), w, gradients ? &g : nullptr);
+    double winding = 0;
+    mean_value_coordinates(rest_cage_, positions.col(v), w, gradients ? &g : nullptr, &winding);
     bound_weights_.col(v) = w;
     if (gradients) bound_gradients_.col(v) = Eigen::Map<const Eigen::VectorXd>(g.data(), 3 * m).cast<float>();
+    out += std::abs(winding) < 0.5;
   }
+  outside = out;
   return gradients ? Binding::WeightsAndGradients : Binding::Weights;
 }
 
@@ -121,7 +131,10 @@ Eigen::Vector3d CageDeformer::displaced(const Eigen::Vector3d& x, const Eigen::R
                                         const G* g, Eigen::Matrix3d* jacobian) const {
   if (jacobian && g) {
     const Eigen::Map<const Eigen::Matrix<G, 3, Eigen::Dynamic>> gradient(g, 3, moves_.cols());
-    *jacobian = Eigen::Matrix3d::Identity() + moves_ * gradient.template cast<double>().transpose();
+    if constexpr (std::is_same_v<G, float>)  // bound gradients: a single-precision product
+      *jacobian = Eigen::Matrix3d::Identity() + (moves_float_ * gradient.transpose()).template cast<double>();
+    else
+      *jacobian = Eigen::Matrix3d::Identity() + moves_ * gradient.transpose();
   }
   return x + moves_ * w;
 }

@@ -49,7 +49,10 @@ public:
   /// `gradients`, as far as they fit in `max_bytes` (8 bytes per point and cage vertex for
   /// the coordinates, 12 more for the gradients, kept in single precision: they serve
   /// only normals, which are renormalized, and the sign of det J).
-  Binding bind(const Eigen::Ref<const Eigen::Matrix3Xd>& positions, bool gradients, std::size_t max_bytes);
+  /// Also counts, in `outside`, the positions outside the rest cage (count_outside's
+  /// count, from the same angles where they are bound).
+  Binding bind(const Eigen::Ref<const Eigen::Matrix3Xd>& positions, bool gradients, std::size_t max_bytes,
+               std::size_t& outside);
   /// How many of `positions` lie outside the rest cage (winding number below 1/2).
   std::size_t count_outside(const Eigen::Ref<const Eigen::Matrix3Xd>& positions) const;
 
@@ -74,6 +77,7 @@ private:
   std::vector<std::vector<std::uint32_t>> faces_;
   MeanValueCage rest_cage_;
   Eigen::Matrix3Xd moves_;             // p_j - r_j as columns
+  Eigen::Matrix3Xf moves_float_;       // the same, for the Jacobian from bound gradients
   Eigen::Matrix3Xd bound_positions_;   // the positions bind() was given
   Eigen::MatrixXd bound_weights_;      // m x n: column v the coordinates of point v
   Eigen::MatrixXf bound_gradients_;    // 3m x n: column v the gradients, 3 per cage vertex; or empty

@@ -27,14 +27,22 @@ struct MeanValueCage {
   Eigen::Matrix3Xd points;                             // the cage's vertices
   std::vector<std::array<std::uint32_t, 3>> triangles;  // outward oriented
   double diagonal = 0;                                  // of the points' bounding box
+  /// Each edge once, and per triangle the edge opposite each corner: the angle an edge
+  /// subtends at x is computed once for its two triangles.
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  std::vector<std::array<std::uint32_t, 3>> opposite_edges;
 };
+
+/// A cage of `points` and `triangles` with its edges and diagonal filled in.
+MeanValueCage mean_value_cage(Eigen::Matrix3Xd points, std::vector<std::array<std::uint32_t, 3>> triangles);
 
 /// The mean value coordinates w (sum 1) of x, one per cage vertex, and, when `gradient` is
 /// given, their gradients with respect to x as its columns (3 x m; forward-mode automatic
 /// differentiation of the same formula, so exact to rounding). On the cage (a vertex or a
-/// triangle) the gradient is that of the limit formula used there.
+/// triangle) the gradient is that of the limit formula used there. With `winding`, also
+/// the winding number (1 on the cage), from the same angles.
 void mean_value_coordinates(const MeanValueCage& cage, const Eigen::Vector3d& x, Eigen::VectorXd& w,
-                            Eigen::Matrix3Xd* gradient = nullptr);
+                            Eigen::Matrix3Xd* gradient = nullptr, double* winding = nullptr);
 
 /// The winding number of the closed cage around x (sum of the triangles' signed solid
 /// angles over 4 pi, Van Oosterom and Strackee's formula): about 1 inside, 0 outside.

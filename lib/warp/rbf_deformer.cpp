@@ -1,13 +1,13 @@
 #include "warp/rbf_deformer.h"
 
-#include <Eigen/Sparse>
-#include <Eigen/UmfPackSupport>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "common/errors.h"
 #include "common/numbers.h"
+#include "common/supernodal_cholesky.h"
 #include "warp/point_tree.h"
 
 namespace ffd {
@@ -119,16 +119,21 @@ double rbf_kernel(const RbfOptions& o, double r, double* over_r) {
   return phi;
 }
 
-/// The factorized system H: dense LU for global kernels, UMFPACK's sparse LU for compact
-/// ones. Also the interface Eigen's 1-norm condition estimator (Hager/Higham, the one
-/// PartialPivLU::rcond uses) needs: solve, and adjoint() solving with H^T = H.
+/// The factorized system H = [Phi P; P^T 0]: a dense LU for global kernels. For the
+/// compact kernel, whose Phi is sparse and positive definite (Wendland's C2 function is,
+/// in up to three dimensions), the supernodal Cholesky of Phi and the 4 x 4 Schur
+/// complement S = P^T Phi^-1 P: for [r; q], y = Phi^-1 r, a = S^-1 (P^T y - q),
+/// gamma = y - Phi^-1 P a. Also the interface Eigen's 1-norm condition estimator
+/// (Hager/Higham, the one PartialPivLU::rcond uses) needs: solve, and adjoint() solving
+/// with H^T = H.
 struct RbfDeformer::System {
   using MatrixType = Eigen::MatrixXd;
   using Scalar = double;
   using RealScalar = double;
   Eigen::PartialPivLU<Eigen::MatrixXd> dense;
-  Eigen::SparseMatrix<double> matrix;  // UMFPACK's factor refers to its matrix: kept here
-  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> sparse;
+  SupernodalCholesky phi;
+  Eigen::MatrixXd P, phi_inv_P;  // n x 4: [1 x y z] per point, and Phi^-1 P
+  Eigen::PartialPivLU<Eigen::Matrix4d> schur;
   bool is_sparse = false;
   Eigen::Index size = 0;
 
@@ -136,7 +141,14 @@ struct RbfDeformer::System {
   Eigen::Index cols() const { return size; }
   const System& adjoint() const { return *this; }  // H is symmetric
   Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const {
-    return is_sparse ? Eigen::MatrixXd(sparse.solve(rhs)) : Eigen::MatrixXd(dense.solve(rhs));
+    if (!is_sparse) return dense.solve(rhs);
+    const Eigen::Index n = size - 4;
+    const Eigen::MatrixXd y = phi.solve(rhs.topRows(n));
+    const Eigen::MatrixXd a = schur.solve(P.transpose() * y - rhs.bottomRows(4));
+    Eigen::MatrixXd out(size, rhs.cols());
+    out.topRows(n) = y - phi_inv_P * a;
+    out.bottomRows(4) = a;
+    return out;
   }
 };
 
@@ -200,17 +212,26 @@ void RbfDeformer::factorize_sparse() {
     kernel_values(rest_matrix_.col(i), ids.data(), static_cast<Eigen::Index>(ids.size()), values.data());
     for (std::size_t t = 0; t < ids.size(); ++t) entries.emplace_back(i, ids[t], values[t]);
   }
-  set_polynomial(rest_matrix_, [&](Eigen::Index r, Eigen::Index c, double v) { entries.emplace_back(r, c, v); });
-  entries_ = entries.size();
-  Eigen::SparseMatrix<double>& H = system_->matrix;
-  H.resize(n + 4, n + 4);
-  H.setFromTriplets(entries.begin(), entries.end());
-  system_->size = n + 4;
-  system_->is_sparse = true;
-  system_->sparse.compute(H);
-  double norm = 0;  // the 1-norm: the largest column sum
-  for (Eigen::Index j = 0; j < H.outerSize(); ++j) norm = std::max(norm, H.col(j).cwiseAbs().sum());
-  check_condition(norm, system_->sparse.info() == Eigen::Success);
+  entries_ = entries.size() + 8 * static_cast<std::size_t>(n);  // with the polynomial's
+  Eigen::SparseMatrix<double> phi(n, n);
+  phi.setFromTriplets(entries.begin(), entries.end());
+  System& s = *system_;
+  s.size = n + 4;
+  s.is_sparse = true;
+  s.P.resize(n, 4);
+  s.P.col(0).setOnes();
+  s.P.rightCols(3) = rest_matrix_.transpose();
+  bool factorized = s.phi.compute(phi);
+  if (factorized) {
+    s.phi_inv_P = s.phi.solve(s.P);
+    s.schur.compute(s.P.transpose() * s.phi_inv_P);
+    factorized = s.schur.rcond() > kMinRcond;
+  }
+  // H's 1-norm: the largest column sum of |Phi| plus its polynomial rows, or of P's columns.
+  double norm = s.P.cwiseAbs().colwise().sum().maxCoeff();
+  for (Eigen::Index j = 0; j < phi.outerSize(); ++j)
+    norm = std::max(norm, phi.col(j).cwiseAbs().sum() + s.P.row(j).cwiseAbs().sum());
+  check_condition(norm, factorized);
 }
 
 void RbfDeformer::check_condition(double norm, bool factorized) {

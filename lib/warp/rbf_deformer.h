@@ -11,9 +11,12 @@
 //   bit.
 // - The system is factorized once, when the deformer is made (one control-point layout);
 //   a move changes only the right-hand side: one solve with the factor, then evaluation.
-//   Global kernels: a dense LU. The compact kernel (Wendland's): a sparse LU (UMFPACK)
-//   of H assembled from a k-d tree's radius searches, and each evaluation sums over the
-//   control points within the radius only (the same terms, the others being exactly 0).
+//   Global kernels: a dense LU. The compact kernel (Wendland's): the sparse kernel matrix
+//   from a k-d tree's radius searches, factored by common/supernodal_cholesky.h, and the
+//   4 x 4 Schur complement of the polynomial (UMFPACK's LU of the whole H spends 70% of
+//   its time in Debian's reference BLAS, Eigen's SparseLU is slower still); each
+//   evaluation sums over the control points within the radius only (the same terms, the
+//   others being exactly 0).
 // - Linear in the moved points: dM(x)/dy_j = w_j(x) I, w(x) = H^-1 b(x) restricted to the
 //   points, b(x) = [phi(|x - x_i|); 1; x] (H is symmetric).
 // - Global, compact kernel included: a move changes every coefficient through the
@@ -65,7 +68,7 @@ public:
   /// The estimated condition number of the system H (1-norm, Hager's estimator: the
   /// reciprocal of LAPACK's rcond).
   double condition() const { return condition_; }
-  /// Whether the system is sparse (a compact kernel) and how many entries its matrix has.
+  /// Whether the system is sparse (a compact kernel) and how many entries H has.
   bool sparse() const { return tree_ != nullptr; }
   std::size_t matrix_entries() const { return entries_; }
 
