@@ -89,5 +89,6 @@ void bench_io(Context& ctx);
 void bench_pictures(Context& ctx);
 void bench_multires(Context& ctx);
 void bench_seam(Context& ctx);
+void bench_deformers(Context& ctx);
 
 }  // namespace ffd::bench

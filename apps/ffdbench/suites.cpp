@@ -17,6 +17,9 @@ const std::vector<Suite>& suites() {
       {"seam", "the Deformer seam: dx/dp of a 1M-vertex mesh against the same run's move step; lib/script's lines, "
                "kind branches and upward includes",
        bench_seam},
+      {"deformers", "RBF (against PyGeM's sizes), IDW and mean-value cages: set-up and evaluation of `ffdtool run`, "
+                    "a cage's pose against a B-spline move on the same mesh",
+       bench_deformers},
   };
   return all;
 }

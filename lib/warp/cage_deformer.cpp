@@ -65,8 +65,11 @@ CageDeformer::CageDeformer(std::vector<Eigen::Vector3d> rest, std::vector<std::v
 }
 
 void CageDeformer::update_after_move() {
-  for (Eigen::Index j = 0; j < moves_.cols(); ++j)
+  moved_ids_.clear();
+  for (Eigen::Index j = 0; j < moves_.cols(); ++j) {
     moves_.col(j) = current_[static_cast<std::size_t>(j)] - rest_[static_cast<std::size_t>(j)];
+    if (!moves_.col(j).isZero(0.0)) moved_ids_.push_back(j);
+  }
   moves_float_ = moves_.cast<float>();
 }
 
@@ -129,14 +132,23 @@ std::vector<std::array<std::uint32_t, 2>> CageDeformer::net_edges(int) const {
 template <class G>
 Eigen::Vector3d CageDeformer::displaced(const Eigen::Vector3d& x, const Eigen::Ref<const Eigen::VectorXd>& w,
                                         const G* g, Eigen::Matrix3d* jacobian) const {
+  // Few cage vertices moved: sum over those only (the others' moves are zero).
+  const bool few = 4 * moved_ids_.size() < static_cast<std::size_t>(moves_.cols());
   if (jacobian && g) {
     const Eigen::Map<const Eigen::Matrix<G, 3, Eigen::Dynamic>> gradient(g, 3, moves_.cols());
-    if constexpr (std::is_same_v<G, float>)  // bound gradients: a single-precision product
-      *jacobian = Eigen::Matrix3d::Identity() + (moves_float_ * gradient.transpose()).template cast<double>();
-    else
-      *jacobian = Eigen::Matrix3d::Identity() + moves_ * gradient.transpose();
+    jacobian->setIdentity();
+    if (few) {
+      for (Eigen::Index j : moved_ids_) *jacobian += moves_.col(j) * gradient.col(j).template cast<double>().transpose();
+    } else if constexpr (std::is_same_v<G, float>) {  // bound gradients: a single-precision product
+      *jacobian += (moves_float_ * gradient.transpose()).template cast<double>();
+    } else {
+      *jacobian += moves_ * gradient.transpose();
+    }
   }
-  return x + moves_ * w;
+  if (!few) return x + moves_ * w;
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
+  for (Eigen::Index j : moved_ids_) d += w[j] * moves_.col(j);
+  return x + d;
 }
 
 Eigen::Vector3d CageDeformer::apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const {

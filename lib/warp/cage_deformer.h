@@ -17,7 +17,8 @@
 // - The batch evaluation computes the Jacobian where a normal needs it or the gradients
 //   are bound; a point bound without gradients and without a normal gets no Jacobian, and
 //   is not among the inverted Jacobians the warp counts.
-// - Global: a move re-evaluates every point.
+// - Global: a move re-evaluates every point. A pose of a few cage vertices (under a
+//   quarter) sums over those only.
 #pragma once
 
 #include <array>
@@ -78,6 +79,7 @@ private:
   MeanValueCage rest_cage_;
   Eigen::Matrix3Xd moves_;             // p_j - r_j as columns
   Eigen::Matrix3Xf moves_float_;       // the same, for the Jacobian from bound gradients
+  std::vector<Eigen::Index> moved_ids_;  // the cage vertices off their rest positions
   Eigen::Matrix3Xd bound_positions_;   // the positions bind() was given
   Eigen::MatrixXd bound_weights_;      // m x n: column v the coordinates of point v
   Eigen::MatrixXf bound_gradients_;    // 3m x n: column v the gradients, 3 per cage vertex; or empty

@@ -11,23 +11,27 @@ IdwDeformer::IdwDeformer(std::vector<Eigen::Vector3d> rest, double power)
   if (rest_.empty()) throw InputError("IDW needs at least one control point", {"points"});
   if (!(power_ > 0)) throw InputError("the power must be positive", {"power"});
   const Eigen::Index n = static_cast<Eigen::Index>(rest_.size());
-  rest_matrix_.resize(3, n);
-  for (Eigen::Index i = 0; i < n; ++i) rest_matrix_.col(i) = rest_[static_cast<std::size_t>(i)];
-  moves_ = Eigen::Matrix3Xd::Zero(3, n);
+  rest_columns_.resize(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) rest_columns_.row(i) = rest_[static_cast<std::size_t>(i)].transpose();
+  moves_ = Eigen::MatrixX3d::Zero(n, 3);
 }
 
 void IdwDeformer::update_after_move() {
-  for (Eigen::Index i = 0; i < moves_.cols(); ++i)
-    moves_.col(i) = current_[static_cast<std::size_t>(i)] - rest_[static_cast<std::size_t>(i)];
+  for (Eigen::Index i = 0; i < moves_.rows(); ++i)
+    moves_.row(i) = (current_[static_cast<std::size_t>(i)] - rest_[static_cast<std::size_t>(i)]).transpose();
 }
 
 Eigen::Index IdwDeformer::weights(const Eigen::Vector3d& x, Eigen::ArrayXd& r2, Eigen::ArrayXd& w) const {
-  r2 = (rest_matrix_.colwise() - x).colwise().squaredNorm().transpose().array();
+  r2 = (x[0] - rest_columns_.col(0).array()).square() + (x[1] - rest_columns_.col(1).array()).square() +
+       (x[2] - rest_columns_.col(2).array()).square();
   Eigen::Index nearest = 0;
   const double r2_min = r2.minCoeff(&nearest);
   if (r2_min == 0) return nearest;
   // (r_min / r_i)^p = (r2_min / r2_i)^(p/2); p = 2 without exp and log.
-  w = power_ == 2 ? Eigen::ArrayXd(r2_min / r2) : Eigen::ArrayXd((0.5 * power_ * (r2_min / r2).log()).exp());
+  if (power_ == 2)
+    w = r2_min / r2;
+  else
+    w = (0.5 * power_ * (r2_min / r2).log()).exp();
   return -1;
 }
 
@@ -51,13 +55,17 @@ Eigen::Vector3d IdwDeformer::apply(const Eigen::Vector3d& x, Eigen::Matrix3d* ja
   const Eigen::Index at = weights(x, r2, w);
   if (at >= 0) return current_[static_cast<std::size_t>(at)];  // exactly the target
   const double total = w.sum();
-  const Eigen::Vector3d d = (moves_ * w.matrix()) / total;
+  Eigen::Vector3d d;
+  for (int a = 0; a < 3; ++a) d[a] = (w * moves_.col(a).array()).sum() / total;
   if (jacobian) {
-    // grad w_i / total = -p (w_i / total) (x - x_i) / r_i^2; J = I + sum (d_i - d) grad w_i^T / total.
-    const Eigen::ArrayXd c = -power_ * w / (total * r2);
-    const Eigen::Matrix3Xd e = (-rest_matrix_).colwise() + x;
-    const Eigen::Matrix3Xd dd = moves_.colwise() - d;
-    *jacobian += dd * c.matrix().asDiagonal() * e.transpose();
+    // grad w_i / total = c_i (x - x_i), c_i = -p (w_i / total) / r_i^2, so
+    // J = I + sum_i (d_i - d) c_i (x - x_i)^T; the scratch is the thread's, reused.
+    thread_local Eigen::ArrayXd c, weighted;
+    c = -power_ * w / (total * r2);
+    for (int a = 0; a < 3; ++a) {
+      weighted = (moves_.col(a).array() - d[a]) * c;
+      for (int b = 0; b < 3; ++b) (*jacobian)(a, b) += (weighted * (x[b] - rest_columns_.col(b).array())).sum();
+    }
   }
   return x + d;
 }

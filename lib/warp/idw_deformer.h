@@ -41,8 +41,8 @@ private:
   Eigen::Index weights(const Eigen::Vector3d& x, Eigen::ArrayXd& r2, Eigen::ArrayXd& w) const;
 
   double power_;
-  Eigen::Matrix3Xd rest_matrix_;  // rest_ as columns
-  Eigen::Matrix3Xd moves_;        // d_i as columns
+  Eigen::MatrixX3d rest_columns_;  // rest_ as rows: each axis contiguous
+  Eigen::MatrixX3d moves_;         // d_i as rows
 };
 
 }  // namespace ffd

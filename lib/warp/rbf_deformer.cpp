@@ -30,6 +30,16 @@ double power_log(double s, int k, double R, double* over_r) {
   return std::pow(s, k) * log_s;
 }
 
+/// Entries `ids[b..b+m)` of `column`, or, when `ids` is null, entries b..b+m.
+void gather(const double* column, const std::uint32_t* ids, Eigen::Index b, Eigen::Index m, BlockArray& out) {
+  if (!ids) {
+    out = Eigen::Map<const BlockArray>(column + b, m);
+    return;
+  }
+  out.resize(m);
+  for (Eigen::Index t = 0; t < m; ++t) out[t] = column[ids[b + t]];
+}
+
 /// s^k for a small integer k (negative: of 1 / s), by multiplication: vectorizes, unlike pow.
 BlockArray power(const BlockArray& s, int k) {
   const BlockArray base = k < 0 ? BlockArray(s.inverse()) : s;
@@ -70,10 +80,11 @@ void kernel_block(const RbfOptions& o, const BlockArray& r2, BlockArray& phi, Bl
       }
       [[fallthrough]];
     case RbfKernel::ThinPlate: {
-      // s^k log s, log s = log(s^2) / 2; 0 at s = 0.
-      const BlockArray s = r2.sqrt() / R, log_s = 0.5 * (r2 / R2).log();
-      phi = (r2 > 0).select(power(s, o.k) * log_s, 0.0);
-      if (over_r) *over_r = (r2 > 0).select(power(s, o.k - 2) * (o.k * log_s + 1) / R2, 0.0);
+      // s^k log s, log s = log(s^2) / 2; 0 at s = 0. Even k: s^k = (s^2)^(k/2), no root.
+      const BlockArray s2 = r2 / R2, log_s = 0.5 * s2.log();
+      const BlockArray s_k2 = o.k % 2 == 0 ? power(s2, o.k / 2 - 1) : BlockArray(power(s2.sqrt(), o.k - 2));
+      phi = (r2 > 0).select(s_k2 * s2 * log_s, 0.0);
+      if (over_r) *over_r = (r2 > 0).select(s_k2 * (o.k * log_s + 1) / R2, 0.0);
       return;
     }
   }
@@ -158,6 +169,7 @@ RbfDeformer::RbfDeformer(std::vector<Eigen::Vector3d> rest, const RbfOptions& op
   const Eigen::Index n = static_cast<Eigen::Index>(rest_.size());
   rest_matrix_.resize(3, n);
   for (Eigen::Index i = 0; i < n; ++i) rest_matrix_.col(i) = rest_[static_cast<std::size_t>(i)];
+  rest_columns_ = rest_matrix_.transpose();
   if (options_.kernel == RbfKernel::Wendland) {
     tree_ = std::make_unique<PointTree>(rest_);
     factorize_sparse();
@@ -270,9 +282,10 @@ void RbfDeformer::kernel_values(const Eigen::Vector3d& x, const std::uint32_t* i
   BlockArray e[3], phi;
   for (Eigen::Index b = 0; b < count; b += kBlock) {
     const Eigen::Index m = std::min<Eigen::Index>(kBlock, count - b);
-    for (int a = 0; a < 3; ++a) e[a].resize(m);
-    for (Eigen::Index t = 0; t < m; ++t)
-      for (int a = 0; a < 3; ++a) e[a][t] = x[a] - rest_matrix_(a, ids ? ids[b + t] : b + t);
+    for (int a = 0; a < 3; ++a) {
+      gather(rest_columns_.col(a).data(), ids, b, m, e[a]);
+      e[a] = x[a] - e[a];
+    }
     kernel_block(options_, e[0] * e[0] + e[1] * e[1] + e[2] * e[2], phi, nullptr);
     std::copy(phi.data(), phi.data() + m, out + b);
   }
@@ -310,10 +323,10 @@ void RbfDeformer::add_terms(const Eigen::Vector3d& x, const std::uint32_t* ids, 
   BlockArray e[3], g[3], phi, over_r;
   for (Eigen::Index b = 0; b < count; b += kBlock) {
     const Eigen::Index m = std::min<Eigen::Index>(kBlock, count - b);
-    for (int a = 0; a < 3; ++a) e[a].resize(m), g[a].resize(m);
-    for (Eigen::Index t = 0; t < m; ++t) {
-      const Eigen::Index i = ids ? ids[b + t] : b + t;
-      for (int a = 0; a < 3; ++a) e[a][t] = x[a] - rest_matrix_(a, i), g[a][t] = coefficients_(i, a);
+    for (int a = 0; a < 3; ++a) {
+      gather(rest_columns_.col(a).data(), ids, b, m, e[a]);
+      e[a] = x[a] - e[a];
+      gather(coefficients_.col(a).data(), ids, b, m, g[a]);
     }
     const BlockArray r2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
     kernel_block(options_, r2, phi, jacobian ? &over_r : nullptr);

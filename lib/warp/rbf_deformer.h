@@ -99,6 +99,7 @@ private:
   std::unique_ptr<System> system_;
   std::unique_ptr<PointTree> tree_;  // compact kernels: the control points within a radius
   Eigen::Matrix3Xd rest_matrix_;     // rest_ as columns
+  Eigen::MatrixX3d rest_columns_;    // rest_ as rows: each axis contiguous, for the kernel sums
   Eigen::MatrixXd coefficients_;     // (n + 4) x 3: gamma, c, Q^T of the displacement
   double condition_ = 0;
   std::size_t entries_ = 0;
