@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 
 #include <nlohmann/json.hpp>
 
@@ -14,25 +13,15 @@
 namespace ffd {
 namespace {
 
+using test::all_ids;
+using test::control_points;
 using test::expect_one_error_line;
 using test::quoted;
 using test::read_file;
+using test::run_script;
 using test::run_tool;
-using test::script;
 using test::temp_folder;
 using test::write_file;
-
-/// 40 bunny vertices as control points, and targets moved by up to 3% of the diagonal.
-void control_points(const Mesh& mesh, std::vector<Eigen::Vector3d>& X, std::vector<Eigen::Vector3d>& Y, double& diag) {
-  const Eigen::Matrix3Xd p = mesh.positions();
-  diag = (p.rowwise().maxCoeff() - p.rowwise().minCoeff()).norm();
-  std::mt19937 rng(6);
-  std::uniform_real_distribution<double> u(-0.03, 0.03);
-  for (Eigen::Index v = 0; v < p.cols() && X.size() < 40; v += 47) {
-    X.push_back(p.col(v));
-    Y.push_back(X.back() + diag * Eigen::Vector3d(u(rng), u(rng), u(rng)));
-  }
-}
 
 /// Shepard's interpolant of the moves, as the textbook writes it.
 Eigen::Vector3d shepard(const std::vector<Eigen::Vector3d>& X, const std::vector<Eigen::Vector3d>& Y, double p,
@@ -47,17 +36,11 @@ Eigen::Vector3d shepard(const std::vector<Eigen::Vector3d>& X, const std::vector
   return x + num / den;
 }
 
-std::vector<std::size_t> all_ids(std::size_t n) {
-  std::vector<std::size_t> ids(n);
-  for (std::size_t i = 0; i < n; ++i) ids[i] = i;
-  return ids;
-}
-
 TEST(Idw, EqualsShepardsFormulaOnTheBunnyAndHitsEveryTarget) {
   const Mesh mesh = test::bunny();
   std::vector<Eigen::Vector3d> X, Y;
   double diag = 0;
-  control_points(mesh, X, Y, diag);
+  control_points(mesh, 47, 6, X, Y, diag);
   for (const double p : {2.0, 3.5, 1.0}) {
     IdwDeformer idw(X, p);
     for (Eigen::Index v = 0; v < mesh.positions().cols(); v += 5)
@@ -78,29 +61,19 @@ TEST(Idw, JacobiansMatchCentralDifferences) {
   const Mesh mesh = test::bunny();
   std::vector<Eigen::Vector3d> X, Y;
   double diag = 0;
-  control_points(mesh, X, Y, diag);
+  control_points(mesh, 47, 6, X, Y, diag);
   const double h = 1e-6 * diag;
   for (const double p : {2.0, 3.5}) {
     IdwDeformer idw(X, p);
     idw.move_points(0, all_ids(X.size()), Y);
     for (Eigen::Index v = 3; v < mesh.positions().cols(); v += 97) {
       const Eigen::Vector3d x = mesh.positions().col(v) + Eigen::Vector3d(0.011, -0.007, 0.013);
-      Eigen::Matrix3d J, fd;
+      Eigen::Matrix3d J;
       idw.apply(x, &J);
-      for (int a = 0; a < 3; ++a)
-        fd.col(a) = (idw.apply(x + h * Eigen::Vector3d::Unit(a), nullptr) - idw.apply(x - h * Eigen::Vector3d::Unit(a), nullptr)) / (2 * h);
+      const Eigen::Matrix3d fd = test::central_jacobian(idw, x, h);
       EXPECT_LE((J - fd).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, J.cwiseAbs().maxCoeff())) << "power " << p << " vertex " << v;
     }
   }
-}
-
-int run_script(const std::string& dir, const std::string& name, const std::vector<std::string>& steps,
-               std::string* err = nullptr) {
-  write_file(dir + "/" + name + ".json", script(steps));
-  return run_tool("run " + quoted(test::data("bunny.obj")) + " " + quoted(dir + "/" + name + ".json") + " -o " +
-                      quoted(dir + "/" + name + ".off") + " --stats " + quoted(dir + "/" + name + ".stats.json") +
-                      " --quiet",
-                  nullptr, err);
 }
 
 TEST(IdwCli, AMoveByIndexEqualsTheSameMoveFromAFile) {

@@ -15,10 +15,12 @@
 namespace ffd {
 namespace {
 
+using test::all_ids;
+using test::control_points;
 using test::expect_one_error_line;
 using test::quoted;
 using test::read_file;
-using test::script;
+using test::run_script;
 using test::run_tool;
 using test::temp_folder;
 using test::write_file;
@@ -91,29 +93,11 @@ Eigen::Matrix3Xd pygem_rbf(const std::vector<Eigen::Vector3d>& X, const std::vec
   return out;
 }
 
-/// 40 bunny vertices as control points, and targets moved by up to 3% of the diagonal.
-void control_points(const Mesh& mesh, std::vector<Eigen::Vector3d>& X, std::vector<Eigen::Vector3d>& Y, double& diag) {
-  const Eigen::Matrix3Xd p = mesh.positions();
-  diag = (p.rowwise().maxCoeff() - p.rowwise().minCoeff()).norm();
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-0.03, 0.03);
-  for (Eigen::Index v = 0; v < p.cols() && X.size() < 40; v += 46) {
-    X.push_back(p.col(v));
-    Y.push_back(X.back() + diag * Eigen::Vector3d(u(rng), u(rng), u(rng)));
-  }
-}
-
-std::vector<std::size_t> all_ids(std::size_t n) {
-  std::vector<std::size_t> ids(n);
-  for (std::size_t i = 0; i < n; ++i) ids[i] = i;
-  return ids;
-}
-
 TEST(Rbf, EveryKernelEqualsPyGemsMapOnTheBunny) {
   const Mesh mesh = test::bunny();
   std::vector<Eigen::Vector3d> X, Y;
   double diag = 0;
-  control_points(mesh, X, Y, diag);
+  control_points(mesh, 46, 5, X, Y, diag);
   ASSERT_EQ(X.size(), 40u);
   for (const Kernel& k : kernels()) {
     RbfDeformer rbf(X, k.options);
@@ -132,7 +116,7 @@ TEST(Rbf, AnAffineMoveIsThatAffineMapAndNoMoveIsTheIdentity) {
   const Mesh mesh = test::bunny();
   std::vector<Eigen::Vector3d> X, Y;
   double diag = 0;
-  control_points(mesh, X, Y, diag);
+  control_points(mesh, 46, 5, X, Y, diag);
   Eigen::Matrix3d A;
   A << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0.02, 0, 1.2;
   const Eigen::Vector3d b(0.3, -0.2, 0.5);
@@ -160,17 +144,16 @@ TEST(Rbf, JacobiansMatchCentralDifferences) {
   const Mesh mesh = test::bunny();
   std::vector<Eigen::Vector3d> X, Y;
   double diag = 0;
-  control_points(mesh, X, Y, diag);
+  control_points(mesh, 46, 5, X, Y, diag);
   const double h = 1e-6 * diag;
   for (const Kernel& k : kernels()) {
     RbfDeformer rbf(X, k.options);
     rbf.move_points(0, all_ids(X.size()), Y);
     for (Eigen::Index v = 3; v < mesh.positions().cols(); v += 97) {
       const Eigen::Vector3d x = mesh.positions().col(v) + Eigen::Vector3d(0.011, -0.007, 0.013);
-      Eigen::Matrix3d J, fd;
+      Eigen::Matrix3d J;
       rbf.apply(x, &J);
-      for (int a = 0; a < 3; ++a)
-        fd.col(a) = (rbf.apply(x + h * Eigen::Vector3d::Unit(a), nullptr) - rbf.apply(x - h * Eigen::Vector3d::Unit(a), nullptr)) / (2 * h);
+      const Eigen::Matrix3d fd = test::central_jacobian(rbf, x, h);
       EXPECT_LE((J - fd).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, J.cwiseAbs().maxCoeff())) << k.name << " at vertex " << v;
     }
   }
@@ -206,15 +189,6 @@ TEST(Rbf, ASingularLayoutIsRefusedNamingThePoints) {
   test::expect_input_error([&] { RbfDeformer(X, RbfOptions{}); }, "control points 1 and 4 are at the same place");
   std::vector<Eigen::Vector3d> flat = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 3, 0}};
   test::expect_input_error([&] { RbfDeformer(flat, RbfOptions{}); }, "the control points lie in one plane");
-}
-
-int run_script(const std::string& dir, const std::string& name, const std::vector<std::string>& steps,
-               std::string* err = nullptr) {
-  write_file(dir + "/" + name + ".json", script(steps));
-  return run_tool("run " + quoted(test::data("bunny.obj")) + " " + quoted(dir + "/" + name + ".json") + " -o " +
-                      quoted(dir + "/" + name + ".off") + " --stats " + quoted(dir + "/" + name + ".stats.json") +
-                      " --quiet",
-                  nullptr, err);
 }
 
 // The same control points from a list, a file and a selection; moves by index and from a

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 #include <sstream>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -248,6 +249,40 @@ std::string script(const std::vector<std::string>& steps) {
   std::string s = R"({"version": 1, "steps": [)";
   for (std::size_t i = 0; i < steps.size(); ++i) s += (i ? ",\n  " : "\n  ") + steps[i];
   return s + "]}";
+}
+
+int run_script(const std::string& dir, const std::string& name, const std::vector<std::string>& steps,
+               std::string* err, const std::string& mesh) {
+  write_file(dir + "/" + name + ".json", script(steps));
+  return run_tool("run " + quoted(mesh.empty() ? data("bunny.obj") : mesh) + " " + quoted(dir + "/" + name + ".json") +
+                      " -o " + quoted(dir + "/" + name + ".off") + " --stats " +
+                      quoted(dir + "/" + name + ".stats.json") + " --quiet",
+                  nullptr, err);
+}
+
+Eigen::Matrix3d central_jacobian(const Warp& warp, const Eigen::Vector3d& x, double h) {
+  Eigen::Matrix3d fd;
+  for (int a = 0; a < 3; ++a)
+    fd.col(a) = (warp.apply(x + h * Eigen::Vector3d::Unit(a), nullptr) - warp.apply(x - h * Eigen::Vector3d::Unit(a), nullptr)) / (2 * h);
+  return fd;
+}
+
+std::vector<std::size_t> all_ids(std::size_t n) {
+  std::vector<std::size_t> ids(n);
+  for (std::size_t i = 0; i < n; ++i) ids[i] = i;
+  return ids;
+}
+
+void control_points(const Mesh& mesh, int stride, unsigned seed, std::vector<Eigen::Vector3d>& X,
+                    std::vector<Eigen::Vector3d>& Y, double& diag) {
+  const Eigen::Matrix3Xd p = mesh.positions();
+  diag = (p.rowwise().maxCoeff() - p.rowwise().minCoeff()).norm();
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-0.03, 0.03);
+  for (Eigen::Index v = 0; v < p.cols() && X.size() < 40; v += stride) {
+    X.push_back(p.col(v));
+    Y.push_back(X.back() + diag * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+  }
 }
 
 }  // namespace ffd::test

@@ -11,6 +11,7 @@
 #include "mesh/mesh.h"
 #include "mesh/soup.h"
 #include "warp/parallelepiped.h"
+#include "warp/warp.h"
 
 namespace ffd::test {
 
@@ -56,6 +57,22 @@ void expect_one_error_line(const std::string& err, const std::vector<std::string
 
 /// A script of `steps` (each a JSON object's text): {"version": 1, "steps": [...]}.
 std::string script(const std::vector<std::string>& steps);
+
+/// Writes script(steps) to DIR/NAME.json and runs it on `mesh` (default: the bunny) with
+/// -o DIR/NAME.off and --stats DIR/NAME.stats.json, quietly; returns the exit code.
+int run_script(const std::string& dir, const std::string& name, const std::vector<std::string>& steps,
+               std::string* err = nullptr, const std::string& mesh = "");
+
+/// dF/dx at x by central differences of step h along each axis.
+Eigen::Matrix3d central_jacobian(const Warp& warp, const Eigen::Vector3d& x, double h);
+
+/// 0, 1, ..., n-1: every point of a scattered deformer, for move_points.
+std::vector<std::size_t> all_ids(std::size_t n);
+
+/// Every `stride`th vertex of `mesh` (up to 40) as control points X, their targets Y moved
+/// by up to 3% of the diagonal `diag` (seeded by `seed`).
+void control_points(const Mesh& mesh, int stride, unsigned seed, std::vector<Eigen::Vector3d>& X,
+                    std::vector<Eigen::Vector3d>& Y, double& diag);
 
 /// A mesh of CGAL's data set (Debian's libcgal-demo, which scripts/setup.sh installs), by
 /// its name in data/meshes/ ("elephant.off"), extracted once; "" when it is not there.

@@ -10,8 +10,8 @@
 //   the same 1k x 100k cases: scripts/pygem_rbf_timing.py (PyGeM's source, Debian's numpy).
 // - idw: 1k x 100k, power 2.
 // - cage: a 100k-vertex UV sphere (radius 0.4) in UV-sphere cages of 200 and 2,000
-//   triangles (radius 1): binding, a pose of every cage vertex (from a posed cage's
-//   file), a pose of one vertex; against a 4^3-cell cubic B-spline move of its centre
+//   triangles (radius 1): binding, a pose of one vertex from rest, then a pose of every
+//   cage vertex (from a posed cage's file); against a 4^3-cell cubic B-spline move of its centre
 //   point on the same mesh in the same run.
 // --quick: 10x fewer points, the smaller control sets and cage.
 #include <cstdio>
@@ -162,20 +162,21 @@ json cage_row(const std::string& ffdtool, const TempFolder& dir, const std::stri
               std::size_t triangles, double bspline_ms) {
   std::fprintf(stderr, "ffdbench: deformers: cage of %zu triangles\n", triangles);
   const json steps = {{{"op", "cage"}, {"name", "C"}, {"cage", dir.file(cage + ".obj")}},
-                      {{"op", "move"}, {"lattice", "C"}, {"positions", {{"file", dir.file(cage + "_posed.txt")}}}},
-                      {{"op", "move"}, {"lattice", "C"}, {"points", {{{"index", 0}, {"by", {0.01, 0, 0}}}}}}};
+                      {{"op", "move"}, {"lattice", "C"}, {"points", {{{"index", 0}, {"by", {0.01, 0, 0}}}}}},
+                      {{"op", "move"}, {"lattice", "C"}, {"positions", {{"file", dir.file(cage + "_posed.txt")}}}}};
   const json r = run_steps(ffdtool, dir, mesh, steps);
   return {{"triangles", triangles},
           {"cage_vertices", r["created"]["cage_vertices"]},
           {"binding", r["created"]["binding"]},
           {"bind_ms", r["setup_ms"]},
-          {"pose_ms", r["step1_ms"]},
-          {"one_vertex_pose_ms", r["step2_ms"]},
+          {"one_vertex_pose_ms", r["step1_ms"]},
+          {"pose_ms", r["step2_ms"]},
           {"bspline_move_ms", bspline_ms},
-          {"pose_vs_bspline_move", r["step1_ms"].get<double>() / bspline_ms},
+          {"one_vertex_pose_vs_bspline_move", r["step1_ms"].get<double>() / bspline_ms},
+          {"pose_vs_bspline_move", r["step2_ms"].get<double>() / bspline_ms},
           {"process_ms", r["process_ms"]},
           {"peak_bytes", r["peak_bytes"]},
-          {"target", {{"bind_s", 2}, {"pose_ms", 30}, {"met", r["setup_ms"].get<double>() < 2000 && r["step1_ms"].get<double>() < 30}}}};
+          {"target", {{"bind_s", 2}, {"pose_ms", 30}, {"met", r["setup_ms"].get<double>() < 2000 && r["step2_ms"].get<double>() < 30}}}};
 }
 
 json cage_rows(const std::string& ffdtool, const TempFolder& dir, bool quick) {
