@@ -273,5 +273,37 @@ TEST(CageCli, VerticesOutsideAreCountedAndWarned) {
   EXPECT_NE(stats["warnings"][0].get<std::string>().find("vertices lie outside cage 'C'"), std::string::npos);
 }
 
+// RBF (dense and compact), IDW and a cage in one stack: the same bytes and counts on one
+// thread and on two (each vertex is evaluated on its own; the binding's order is fixed).
+TEST(ScatteredKinds, TheSameBytesAtOneAndTwoThreads) {
+  const std::string dir = temp_folder("scattered_threads");
+  write_file(dir + "/cage.obj", bunny_cage_obj(0.5));
+  const std::string points = R"("points": {"select": {"indices": [0, 200, 400, 600, 800, 1000, 1200, 1400, 1600, 1800]}})";
+  write_file(dir + "/s.json",
+             test::script({R"({"op": "rbf", "name": "R", "kernel": "thin_plate_spline", "radius": 2, )" + points + "}",
+                           R"({"op": "move", "lattice": "R", "points": [{"index": 3, "by": [0.3, 0, 0]}]})",
+                           R"({"op": "rbf", "name": "W", "kernel": "beckert_wendland_c2_basis", "radius": 9, )" + points + "}",
+                           R"({"op": "move", "lattice": "W", "points": [{"index": 5, "by": [0, 0.3, 0]}]})",
+                           R"({"op": "idw", "name": "I", "power": 2.5, )" + points + "}",
+                           R"({"op": "move", "lattice": "I", "points": [{"index": 7, "by": [0, 0, 0.3]}]})",
+                           R"({"op": "cage", "name": "C", "cage": "cage.obj"})",
+                           R"({"op": "move", "lattice": "C", "points": [{"index": 6, "by": [0.4, 0.2, 0]}]})"}));
+  std::string outputs[2];
+  nlohmann::json stats[2];
+  for (int t = 1; t <= 2; ++t) {
+    const std::string out = dir + "/t" + std::to_string(t);
+    ASSERT_EQ(run_tool("run " + quoted(test::data("bunny.obj")) + " " + quoted(dir + "/s.json") + " -o " +
+                       quoted(out + ".ply") + " --stats " + quoted(out + ".json") + " --quiet --threads " +
+                       std::to_string(t)),
+              0);
+    outputs[t - 1] = read_file(out + ".ply");
+    stats[t - 1] = test::without_measurements(nlohmann::json::parse(read_file(out + ".json")));
+  }
+  EXPECT_FALSE(outputs[0].empty());
+  EXPECT_EQ(outputs[0], outputs[1]);
+  stats[0].erase("threads"), stats[1].erase("threads");
+  EXPECT_EQ(stats[0]["steps"], stats[1]["steps"]);
+}
+
 }  // namespace
 }  // namespace ffd

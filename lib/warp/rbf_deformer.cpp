@@ -49,13 +49,15 @@ BlockArray power(const BlockArray& s, int k) {
 }
 
 /// phi and, when `over_r` is given, phi'(r) / r of a block of squared distances: the
-/// vectorized form of rbf_kernel (Eigen's packet exp, log and sqrt).
+/// vectorized form of rbf_kernel (Eigen's packet exp, log and sqrt, inlined: SLEEF's
+/// vector exp and log, called per four lanes, made 5k x 1M evaluations 20-25% slower).
 void kernel_block(const RbfOptions& o, const BlockArray& r2, BlockArray& phi, BlockArray* over_r) {
-  const double R = o.radius, R2 = R * R;
+  // Divisions by R as products with its reciprocals: a vector division costs several products.
+  const double R2 = o.radius * o.radius, inv_R = 1 / o.radius, inv_R2 = 1 / R2;
   switch (o.kernel) {
     case RbfKernel::Gaussian:
-      phi = (-r2 / R2).exp();
-      if (over_r) *over_r = -2 / R2 * phi;
+      phi = (r2 * -inv_R2).exp();
+      if (over_r) *over_r = -2 * inv_R2 * phi;
       return;
     case RbfKernel::MultiQuadratic:
       phi = (r2 + R2).sqrt();
@@ -66,25 +68,25 @@ void kernel_block(const RbfOptions& o, const BlockArray& r2, BlockArray& phi, Bl
       if (over_r) *over_r = -phi * phi * phi;
       return;
     case RbfKernel::Wendland: {
-      const BlockArray s = r2.sqrt() / R, t = (1 - s).max(0.0), t3 = t * t * t;
+      const BlockArray s = r2.sqrt() * inv_R, t = (1 - s).max(0.0), t3 = t * t * t;
       phi = t3 * t * (4 * s + 1);
-      if (over_r) *over_r = -20 / R2 * t3;
+      if (over_r) *over_r = -20 * inv_R2 * t3;
       return;
     }
     case RbfKernel::Polyharmonic:
       if (o.k % 2 == 1) {
-        const BlockArray s = r2.sqrt() / R;
+        const BlockArray s = r2.sqrt() * inv_R;
         phi = power(s, o.k);
-        if (over_r) *over_r = (r2 > 0).select(o.k / R2 * power(s, o.k - 2), 0.0);
+        if (over_r) *over_r = (r2 > 0).select(o.k * inv_R2 * power(s, o.k - 2), 0.0);
         return;
       }
       [[fallthrough]];
     case RbfKernel::ThinPlate: {
       // s^k log s, log s = log(s^2) / 2; 0 at s = 0. Even k: s^k = (s^2)^(k/2), no root.
-      const BlockArray s2 = r2 / R2, log_s = 0.5 * s2.log();
+      const BlockArray s2 = r2 * inv_R2, log_s = 0.5 * s2.log();
       const BlockArray s_k2 = o.k % 2 == 0 ? power(s2, o.k / 2 - 1) : BlockArray(power(s2.sqrt(), o.k - 2));
       phi = (r2 > 0).select(s_k2 * s2 * log_s, 0.0);
-      if (over_r) *over_r = (r2 > 0).select(s_k2 * (o.k * log_s + 1) / R2, 0.0);
+      if (over_r) *over_r = (r2 > 0).select(s_k2 * (o.k * log_s + 1) * inv_R2, 0.0);
       return;
     }
   }
