@@ -82,8 +82,15 @@ void kernel_block(const RbfOptions& o, const BlockArray& r2, BlockArray& phi, Bl
       }
       [[fallthrough]];
     case RbfKernel::ThinPlate: {
-      // s^k log s, log s = log(s^2) / 2; 0 at s = 0. Even k: s^k = (s^2)^(k/2), no root.
-      const BlockArray s2 = r2 * inv_R2, log_s = 0.5 * s2.log();
+      // s^k log s, log s = log(s^2) / 2; 0 at s = 0, where s^2 is raised to the smallest
+      // normal double so that the log stays finite (phi is then 0 times a finite number;
+      // phi'/r there only ever multiplies x - x_i = 0). Even k: s^k = (s^2)^(k/2), no root.
+      const BlockArray s2 = r2 * inv_R2, log_s = 0.5 * s2.max(std::numeric_limits<double>::min()).log();
+      if (o.k == 2) {  // the classical thin-plate spline, without the powers
+        phi = s2 * log_s;
+        if (over_r) *over_r = (2 * log_s + 1) * inv_R2;
+        return;
+      }
       const BlockArray s_k2 = o.k % 2 == 0 ? power(s2, o.k / 2 - 1) : BlockArray(power(s2.sqrt(), o.k - 2));
       phi = (r2 > 0).select(s_k2 * s2 * log_s, 0.0);
       if (over_r) *over_r = (r2 > 0).select(s_k2 * (o.k * log_s + 1) * inv_R2, 0.0);
