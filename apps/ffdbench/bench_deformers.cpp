@@ -9,14 +9,15 @@
 //   Wendland C2 10k x 1M at radius 0.106 (about 50 control points within it). PyGeM on
 //   the same 1k x 100k cases: scripts/pygem_rbf_timing.py (PyGeM's source, Debian's numpy).
 // - idw: 1k x 100k, power 2.
-// - cage: a 100k-vertex UV sphere (radius 0.4) in UV-sphere cages of 200 and 2,000
-//   triangles (radius 1): binding, a pose of one vertex from rest, then a pose of every
+// - cage: a 100k-vertex UV sphere (radius 0.4), and the 100k-point cloud, in UV-sphere
+//   cages of 200 and 2,000 triangles (radius 1): binding, a pose of one vertex from rest, then a pose of every
 //   cage vertex (from a posed cage's file); against a 4^3-cell cubic B-spline move of its centre
 //   point on the same mesh in the same run.
 // --quick: 10x fewer points, the smaller control sets and cage.
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <tuple>
 
 #include "bench.h"
 #include "child_run.h"
@@ -179,16 +180,29 @@ json cage_row(const std::string& ffdtool, const TempFolder& dir, const std::stri
           {"target", {{"bind_s", 2}, {"pose_ms", 30}, {"met", r["setup_ms"].get<double>() < 2000 && r["step2_ms"].get<double>() < 30}}}};
 }
 
+/// The cage rows on `mesh` (`what` says which), beside a B-spline move on it.
+void cage_rows_on(const std::string& ffdtool, const TempFolder& dir, const std::string& mesh, const std::string& what,
+                  bool quick, json& rows) {
+  const json bspline = {{{"op", "lattice"}, {"name", "L"}, {"cells", {4, 4, 4}}},
+                        {{"op", "move"}, {"lattice", "L"}, {"points", {{{"index", {2, 2, 2}}, {"by", {0.01, 0.02, 0.03}}}}}}};
+  const double bspline_ms = run_steps(ffdtool, dir, mesh, bspline)["step1_ms"].get<double>();
+  for (const auto& [name, slices, stacks] : {std::tuple{"cage200", 10, 11}, std::tuple{"cage2000", 40, 26}}) {
+    if (quick && slices > 10) continue;
+    json row = cage_row(ffdtool, dir, mesh, name, write_cage(dir, name, slices, stacks), bspline_ms);
+    row["mesh"] = what;
+    rows.push_back(row);
+  }
+}
+
+/// Cages around a 100k-vertex sphere mesh (its normals need the Jacobian: gradients are
+/// bound) and around the rbf rows' 100k-point cloud (no normals: coordinates only).
 json cage_rows(const std::string& ffdtool, const TempFolder& dir, bool quick) {
   const std::string mesh = dir.file("sphere.ply");
   write_binary(mesh, quick ? uv_sphere(126, 80, Eigen::Vector3d::Constant(0.5), 0.4)
                            : uv_sphere(400, 251, Eigen::Vector3d::Constant(0.5), 0.4));
-  const json bspline = {{{"op", "lattice"}, {"name", "L"}, {"cells", {4, 4, 4}}},
-                        {{"op", "move"}, {"lattice", "L"}, {"points", {{{"index", {2, 2, 2}}, {"by", {0.01, 0.02, 0.03}}}}}}};
-  const double bspline_ms = run_steps(ffdtool, dir, mesh, bspline)["step1_ms"].get<double>();
   json rows = json::array();
-  rows.push_back(cage_row(ffdtool, dir, mesh, "cage200", write_cage(dir, "cage200", 10, 11), bspline_ms));
-  if (!quick) rows.push_back(cage_row(ffdtool, dir, mesh, "cage2000", write_cage(dir, "cage2000", 40, 26), bspline_ms));
+  cage_rows_on(ffdtool, dir, mesh, "sphere mesh with normals", quick, rows);
+  cage_rows_on(ffdtool, dir, dir.file("small.ply"), "point cloud", quick, rows);
   return rows;
 }
 
@@ -197,7 +211,8 @@ json cage_rows(const std::string& ffdtool, const TempFolder& dir, bool quick) {
 void bench_deformers(Context& ctx) {
   const TempFolder dir("deformers");
   const std::string ffdtool = ffdtool_path(ctx.ffdtool);
-  ctx.out["deformers"] = {{"scattered", rbf_rows(ffdtool, dir, ctx.quick)}, {"cage", cage_rows(ffdtool, dir, ctx.quick)}};
+  json scattered = rbf_rows(ffdtool, dir, ctx.quick);  // writes the point cloud the cage rows use too
+  ctx.out["deformers"] = {{"scattered", std::move(scattered)}, {"cage", cage_rows(ffdtool, dir, ctx.quick)}};
 }
 
 }  // namespace ffd::bench
