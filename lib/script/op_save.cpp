@@ -137,7 +137,7 @@ void SaveStep::save_net(Scene& scene, StepContext& ctx) const {
   if (!faces.empty()) ctx.stats["faces"] = faces.size();
   ctx.stats["bytes"] = bytes;
   ctx.summary = "save " + path + ": " + title + ", " + format_count(net.points.size()) + " points, " +
-                format_count(net.edges.size()) + " edges";
+                (faces.empty() ? format_count(net.edges.size()) + " edges" : format_count(faces.size()) + " faces");
 }
 
 void SaveStep::save_sensitivity(Scene& scene, StepContext& ctx) const {
