@@ -246,6 +246,9 @@ TEST(CageCli, InputErrorsNameTheirPlace) {
   write_file(dir + "/flipped.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 3 4\n");
   EXPECT_EQ(run_script(dir, "flipped", {R"({"op": "cage", "name": "C", "cage": "flipped.obj"})"}, &err), 2);
   expect_one_error_line(err, {"flipped.json: /steps/0/cage", "cage edge 0-2 is used in the same direction by faces 0 and 3"});
+  write_file(dir + "/flat.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 4 3 2\n");
+  EXPECT_EQ(run_script(dir, "flat", {R"({"op": "cage", "name": "C", "cage": "flat.obj"})"}, &err), 2);
+  expect_one_error_line(err, {"flat.json: /steps/0/cage", "the cage encloses no volume"});
   write_file(dir + "/cage.obj", bunny_cage_obj(0.5));
   write_file(dir + "/three.txt", "0 0 0\n1 1 1\n2 2 2\n");
   EXPECT_EQ(run_script(dir, "count", {R"({"op": "cage", "name": "C", "cage": "cage.obj"})",

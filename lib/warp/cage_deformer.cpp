@@ -1,5 +1,6 @@
 #include "warp/cage_deformer.h"
 
+#include <cmath>
 #include <map>
 #include <type_traits>
 
@@ -48,6 +49,17 @@ void check_closed_and_oriented(const std::vector<std::vector<std::uint32_t>>& fa
     }
 }
 
+/// \throw InputError about "cage" when the cage encloses no volume (a flat, two-sided cage):
+/// its triangles' contributions cancel, and the coordinates would divide by zero.
+void check_volume(const MeanValueCage& cage) {
+  double volume = 0;  // six times the signed volume
+  for (const auto& t : cage.triangles)
+    volume += cage.points.col(t[0]).dot(cage.points.col(t[1]).cross(cage.points.col(t[2])));
+  const double d = cage.diagonal;
+  if (!(std::abs(volume) > 1e-12 * d * d * d))
+    throw InputError("the cage encloses no volume (its faces lie in one plane, or it folds onto itself)", {"cage"});
+}
+
 }  // namespace
 
 CageDeformer::CageDeformer(std::vector<Eigen::Vector3d> rest, std::vector<std::vector<std::uint32_t>> faces)
@@ -61,6 +73,7 @@ CageDeformer::CageDeformer(std::vector<Eigen::Vector3d> rest, std::vector<std::v
   for (const auto& face : faces_)  // a fan from the first corner
     for (std::size_t i = 1; i + 1 < face.size(); ++i) triangles.push_back({face[0], face[i], face[i + 1]});
   rest_cage_ = mean_value_cage(std::move(points), std::move(triangles));
+  check_volume(rest_cage_);
   moves_ = Eigen::Matrix3Xd::Zero(3, m);
 }
 

@@ -37,8 +37,8 @@ public:
   /// \throw InputError about "cage": no faces, a face with fewer than 3 corners or a
   /// repeated corner, two vertices at one place, an edge with no neighbour (open), used
   /// twice in one direction (inconsistent orientation, or more than two faces on it),
-  /// naming the first such edge by its vertex numbers and its face. Faces may all point
-  /// inward: the coordinates do not change.
+  /// naming the first such edge by its vertex numbers and its face; or a cage that encloses
+  /// no volume. Faces may all point inward: the coordinates do not change.
   CageDeformer(std::vector<Eigen::Vector3d> rest, std::vector<std::vector<std::uint32_t>> faces);
 
   const std::vector<std::vector<std::uint32_t>>& faces() const { return faces_; }
