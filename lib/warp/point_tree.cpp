@@ -34,16 +34,19 @@ struct PointTree::Impl {
 PointTree::PointTree(const std::vector<Eigen::Vector3d>& points) : impl_(std::make_unique<Impl>(points)) {}
 PointTree::~PointTree() = default;
 
-void PointTree::within(const Eigen::Vector3d& x, double radius, std::vector<std::pair<std::uint32_t, double>>& out) const {
-  out.clear();
+void PointTree::within(const Eigen::Vector3d& x, double radius, std::vector<std::uint32_t>& ids) const {
+  ids.clear();
   if (impl_->cloud.points.empty()) return;
   // nanoflann's radius is squared for L2 and its ball is open; widen it by one ulp-scale
   // step, then keep exactly the closed ball.
   const double r2 = radius * radius;
-  impl_->tree.radiusSearch(x.data(), std::nextafter(r2, std::numeric_limits<double>::infinity()), out,
+  thread_local std::vector<std::pair<std::uint32_t, double>> found;
+  found.clear();
+  impl_->tree.radiusSearch(x.data(), std::nextafter(r2, std::numeric_limits<double>::infinity()), found,
                            nanoflann::SearchParams(32, 0, false));
-  out.erase(std::remove_if(out.begin(), out.end(), [&](const auto& m) { return !(m.second <= r2); }), out.end());
-  std::sort(out.begin(), out.end());
+  for (const auto& [i, d2] : found)
+    if (d2 <= r2) ids.push_back(i);
+  std::sort(ids.begin(), ids.end());
 }
 
 std::pair<std::size_t, double> PointTree::nearest_other(std::size_t i) const {

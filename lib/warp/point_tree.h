@@ -20,9 +20,9 @@ public:
   PointTree(const PointTree&) = delete;
   PointTree& operator=(const PointTree&) = delete;
 
-  /// The points within distance `radius` of x (closed ball): (index, squared distance),
-  /// indices ascending, so results do not depend on the tree's traversal.
-  void within(const Eigen::Vector3d& x, double radius, std::vector<std::pair<std::uint32_t, double>>& out) const;
+  /// The indices of the points within distance `radius` of x (closed ball), ascending, so
+  /// results do not depend on the tree's traversal.
+  void within(const Eigen::Vector3d& x, double radius, std::vector<std::uint32_t>& ids) const;
   /// The nearest point to `points[i]` other than i itself (ties: the lowest index), and the
   /// distance to it; (i, inf) for a single point.
   std::pair<std::size_t, double> nearest_other(std::size_t i) const;

@@ -176,9 +176,8 @@ RbfDeformer::RbfDeformer(std::vector<Eigen::Vector3d> rest, const RbfOptions& op
     : ScatteredDeformer(std::move(rest), "control points"), options_(options), system_(std::make_unique<System>()) {
   check_layout();
   const Eigen::Index n = static_cast<Eigen::Index>(rest_.size());
-  rest_matrix_.resize(3, n);
-  for (Eigen::Index i = 0; i < n; ++i) rest_matrix_.col(i) = rest_[static_cast<std::size_t>(i)];
-  rest_columns_ = rest_matrix_.transpose();
+  rest_columns_.resize(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) rest_columns_.row(i) = rest_[static_cast<std::size_t>(i)].transpose();
   if (options_.kernel == RbfKernel::Wendland) {
     tree_ = std::make_unique<PointTree>(rest_);
     factorize_sparse();
@@ -190,29 +189,24 @@ RbfDeformer::RbfDeformer(std::vector<Eigen::Vector3d> rest, const RbfOptions& op
 
 RbfDeformer::~RbfDeformer() = default;
 
-namespace {
-
-/// H's polynomial rows and columns: [1 x y z] per point.
-template <class Set>
-void set_polynomial(const Eigen::Matrix3Xd& points, Set&& set) {
-  const Eigen::Index n = points.cols();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    set(i, n, 1.0), set(n, i, 1.0);
-    for (int a = 0; a < 3; ++a) set(i, n + 1 + a, points(a, i)), set(n + 1 + a, i, points(a, i));
-  }
+Eigen::MatrixXd RbfDeformer::polynomial_rows() const {
+  Eigen::MatrixXd P(rest_columns_.rows(), 4);
+  P.col(0).setOnes();
+  P.rightCols(3) = rest_columns_;
+  return P;
 }
 
-}  // namespace
-
 void RbfDeformer::factorize_dense() {
-  const Eigen::Index n = rest_matrix_.cols();
+  const Eigen::Index n = rest_columns_.rows();
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n + 4, n + 4);
   Eigen::VectorXd row(n);
   for (Eigen::Index i = 0; i < n; ++i) {
-    kernel_values(rest_matrix_.col(i), nullptr, n, row.data());
+    kernel_values(rest_[static_cast<std::size_t>(i)], nullptr, n, row.data());
     H.row(i).head(n) = row.transpose();
   }
-  set_polynomial(rest_matrix_, [&](Eigen::Index r, Eigen::Index c, double v) { H(r, c) = v; });
+  const Eigen::MatrixXd P = polynomial_rows();
+  H.topRightCorner(n, 4) = P;
+  H.bottomLeftCorner(4, n) = P.transpose();
   entries_ = static_cast<std::size_t>(H.size());
   system_->size = n + 4;
   system_->dense.compute(H);
@@ -220,17 +214,15 @@ void RbfDeformer::factorize_dense() {
 }
 
 void RbfDeformer::factorize_sparse() {
-  const Eigen::Index n = rest_matrix_.cols();
+  const Eigen::Index n = rest_columns_.rows();
   std::vector<Eigen::Triplet<double>> entries;
-  std::vector<std::pair<std::uint32_t, double>> near;
   std::vector<std::uint32_t> ids;
   std::vector<double> values;
   for (Eigen::Index i = 0; i < n; ++i) {
-    tree_->within(rest_matrix_.col(i), options_.radius, near);
-    ids.clear();
-    for (const auto& m : near) ids.push_back(m.first);
+    const Eigen::Vector3d& x = rest_[static_cast<std::size_t>(i)];
+    tree_->within(x, options_.radius, ids);
     values.resize(ids.size());
-    kernel_values(rest_matrix_.col(i), ids.data(), static_cast<Eigen::Index>(ids.size()), values.data());
+    kernel_values(x, ids.data(), static_cast<Eigen::Index>(ids.size()), values.data());
     for (std::size_t t = 0; t < ids.size(); ++t) entries.emplace_back(i, ids[t], values[t]);
   }
   entries_ = entries.size() + 8 * static_cast<std::size_t>(n);  // with the polynomial's
@@ -239,9 +231,7 @@ void RbfDeformer::factorize_sparse() {
   System& s = *system_;
   s.size = n + 4;
   s.is_sparse = true;
-  s.P.resize(n, 4);
-  s.P.col(0).setOnes();
-  s.P.rightCols(3) = rest_matrix_.transpose();
+  s.P = polynomial_rows();
   bool factorized = s.phi.compute(phi);
   if (factorized) {
     s.phi_inv_P = s.phi.solve(s.P);
@@ -304,10 +294,8 @@ Eigen::VectorXd RbfDeformer::basis_row(const Eigen::Vector3d& x) const {
   const Eigen::Index n = static_cast<Eigen::Index>(rest_.size());
   Eigen::VectorXd b = Eigen::VectorXd::Zero(n + 4);
   if (tree_) {
-    std::vector<std::pair<std::uint32_t, double>> near;
-    tree_->within(x, options_.radius, near);
     std::vector<std::uint32_t> ids;
-    for (const auto& m : near) ids.push_back(m.first);
+    tree_->within(x, options_.radius, ids);
     std::vector<double> values(ids.size());
     kernel_values(x, ids.data(), static_cast<Eigen::Index>(ids.size()), values.data());
     for (std::size_t t = 0; t < ids.size(); ++t) b[ids[t]] = values[t];
@@ -356,11 +344,8 @@ Eigen::Vector3d RbfDeformer::apply(const Eigen::Vector3d& x, Eigen::Matrix3d* ja
   Eigen::Vector3d d = coefficients_.row(n).transpose() + coefficients_.bottomRows<3>().transpose() * x;
   if (jacobian) *jacobian += coefficients_.bottomRows<3>().transpose();
   if (tree_) {
-    thread_local std::vector<std::pair<std::uint32_t, double>> near;
     thread_local std::vector<std::uint32_t> ids;
-    tree_->within(x, options_.radius, near);
-    ids.clear();
-    for (const auto& m : near) ids.push_back(m.first);
+    tree_->within(x, options_.radius, ids);
     add_terms(x, ids.data(), static_cast<Eigen::Index>(ids.size()), d, jacobian);
   } else {
     add_terms(x, nullptr, n, d, jacobian);

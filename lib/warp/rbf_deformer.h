@@ -81,6 +81,8 @@ private:
   struct System;
   void update_after_move() override;
   void check_layout() const;
+  /// P = [1 x y z], one row per control point: H's polynomial block.
+  Eigen::MatrixXd polynomial_rows() const;
   /// Assemble and factorize H, dense or sparse.
   void factorize_dense();
   void factorize_sparse();
@@ -98,7 +100,6 @@ private:
   RbfOptions options_;
   std::unique_ptr<System> system_;
   std::unique_ptr<PointTree> tree_;  // compact kernels: the control points within a radius
-  Eigen::Matrix3Xd rest_matrix_;     // rest_ as columns
   Eigen::MatrixX3d rest_columns_;    // rest_ as rows: each axis contiguous, for the kernel sums
   Eigen::MatrixXd coefficients_;     // (n + 4) x 3: gamma, c, Q^T of the displacement
   double condition_ = 0;

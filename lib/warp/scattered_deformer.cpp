@@ -1,38 +1,13 @@
 #include "warp/scattered_deformer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
-#include <numeric>
-#include <tuple>
 
 #include "common/errors.h"
 #include "warp/point_tree.h"
 
 namespace ffd {
-namespace {
-
-/// \throw InputError about `subject` naming the two lowest-numbered points at one place.
-void check_distinct(const std::vector<Eigen::Vector3d>& points, const std::string& noun, const std::string& subject) {
-  std::vector<std::size_t> order(points.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    const Eigen::Vector3d &p = points[a], &q = points[b];
-    return std::tie(p[0], p[1], p[2], a) < std::tie(q[0], q[1], q[2], b);
-  });
-  std::array<std::size_t, 2> first{0, 0};
-  bool found = false;
-  for (std::size_t i = 1; i < order.size(); ++i)
-    if (points[order[i]] == points[order[i - 1]] && (!found || order[i - 1] < first[0])) {
-      first = {order[i - 1], order[i]};
-      found = true;
-    }
-  if (found)
-    throw InputError(noun + " " + std::to_string(first[0]) + " and " + std::to_string(first[1]) + " are at the same place",
-                     {subject});
-}
-
-}  // namespace
-
 double smallest_spacing(const std::vector<Eigen::Vector3d>& points, std::array<std::size_t, 2>* pair) {
   double best = std::numeric_limits<double>::infinity();
   if (points.size() < 2) return best;
@@ -49,8 +24,13 @@ double smallest_spacing(const std::vector<Eigen::Vector3d>& points, std::array<s
 
 ScatteredDeformer::ScatteredDeformer(std::vector<Eigen::Vector3d> rest, std::string noun, const std::string& subject)
     : rest_(std::move(rest)), current_(rest_), noun_(std::move(noun)) {
-  check_distinct(rest_, noun_, subject);
-  spacing_ = smallest_spacing(rest_);
+  // One pass of nearest neighbours gives the spacing and the first two points at one
+  // place (the lowest-numbered point that has a twin, and its lowest-numbered twin).
+  std::array<std::size_t, 2> pair{0, 0};
+  spacing_ = smallest_spacing(rest_, &pair);
+  if (spacing_ == 0)
+    throw InputError(noun_ + " " + std::to_string(pair[0]) + " and " + std::to_string(pair[1]) + " are at the same place",
+                     {subject});
   if (!std::isfinite(spacing_)) spacing_ = 0;
 }
 

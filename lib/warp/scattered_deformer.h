@@ -66,8 +66,10 @@ private:
   bool moved_ = false, changed_ = false;
 };
 
-/// The smallest distance between two of `points` (a k-d tree's nearest neighbours), the
-/// first pair at that distance in `pair` when given; infinity for fewer than two points.
+/// The smallest distance between two of `points` (a k-d tree's nearest neighbours), and in
+/// `pair`, when given, the first pair at that distance: the lowest-numbered point with a
+/// neighbour that near, and the lowest-numbered such neighbour. Infinity for fewer than
+/// two points.
 double smallest_spacing(const std::vector<Eigen::Vector3d>& points, std::array<std::size_t, 2>* pair = nullptr);
 
 }  // namespace ffd
