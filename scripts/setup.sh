@@ -10,6 +10,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libpng-dev
   libgtest-dev libgmock-dev libssl-dev
   libcgal-demo
+  libxml2-utils
   python3
 )
 

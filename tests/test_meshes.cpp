@@ -173,6 +173,24 @@ Parallelepiped skewed_box() {
 
 std::string quoted(const std::string& path) { return "'" + path + "'"; }
 
+bool junit_valid(const std::string& xml_path, std::string* why) {
+  const std::string dir = temp_folder("junit_valid");
+  const std::string command = "xmllint --noout --schema " + quoted(std::string(FFD_SOURCE_DIR) + "/tests/data/junit.xsd") +
+                              " " + quoted(xml_path) + " >" + quoted(dir + "/out") + " 2>&1";
+  const int status = std::system(command.c_str());
+  if (why) *why = read_file(dir + "/out");
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+std::string xpath(const std::string& xml_path, const std::string& expr) {
+  const std::string dir = temp_folder("xpath");
+  const std::string command = "xmllint --xpath " + quoted(expr) + " " + quoted(xml_path) + " >" + quoted(dir + "/out") + " 2>/dev/null";
+  const int status = std::system(command.c_str());
+  std::string out = WIFEXITED(status) && WEXITSTATUS(status) == 0 ? read_file(dir + "/out") : std::string();
+  while (!out.empty() && out.back() == '\n') out.pop_back();
+  return out;
+}
+
 std::set<std::string> files_in(const std::string& dir) {
   std::set<std::string> names;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) names.insert(entry.path().filename().string());

@@ -78,6 +78,15 @@ void control_points(const Mesh& mesh, int stride, unsigned seed, std::vector<Eig
 /// its name in data/meshes/ ("elephant.off"), extracted once; "" when it is not there.
 std::string cgal_mesh(const std::string& name);
 
+/// Whether the XML file at `xml_path` is a JUnit report as CI systems read it: xmllint
+/// (libxml2-utils, which scripts/setup.sh installs) validates it against
+/// tests/data/junit.xsd. When not, `why` (if given) gets xmllint's messages.
+bool junit_valid(const std::string& xml_path, std::string* why = nullptr);
+
+/// What `xmllint --xpath EXPR` prints for the XML file at `xml_path`, without the final
+/// newline ("" on an error): `string(//testsuite/@tests)`, `count(//failure)`.
+std::string xpath(const std::string& xml_path, const std::string& expr);
+
 /// The path in single quotes, for run_tool's shell command line.
 std::string quoted(const std::string& path);
 /// The names of the entries of a folder.
