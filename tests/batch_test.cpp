@@ -7,8 +7,11 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <array>
+#include <cstdio>
 #include <filesystem>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -28,6 +31,7 @@ using test::read_file;
 using test::run_tool;
 using test::temp_folder;
 using test::write_file;
+using test::xpath;
 
 const char* kScript = R"({"version": 1, "steps": [
   {"op": "lattice", "name": "b", "cells": [4, 4, 4]},
@@ -162,6 +166,101 @@ TEST(Batch, ResumeRerunsNothingUntilTheScriptChanges) {
   ASSERT_EQ(batch(args + " --resume"), 0);
   for (const json& line : results(dir + "/out/results.jsonl")) EXPECT_EQ(line["status"], "ok") << line.dump();
   EXPECT_NE(files_under(dir + "/out"), bytes);
+}
+
+// "ffdtool batch: 8 ok, 1 failed, 0 skipped in ..." in a batch's stderr: {ok, failed, skipped}.
+std::array<int, 3> summary_counts(const std::string& err) {
+  std::array<int, 3> n{-1, -1, -1};
+  const std::size_t at = err.rfind("ffdtool batch: ");  // the last line: the summary
+  if (at != std::string::npos) std::sscanf(err.c_str() + at, "ffdtool batch: %d ok, %d failed, %d skipped", &n[0], &n[1], &n[2]);
+  return n;
+}
+
+// A JUnit file without what two reports of the same results may differ in: the time,
+// timestamp and hostname of <testsuites> and <testsuite>.
+std::string junit_content(const std::string& path) {
+  std::istringstream lines(read_file(path));
+  std::string out;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("<testsuites ", 0) == 0 || line.rfind("  <testsuite ", 0) == 0)
+      line = std::regex_replace(line, std::regex(R"( (time|timestamp|hostname)="[^"]*")"), "");
+    out += line + "\n";
+  }
+  return out;
+}
+
+// Expects the JUnit file at `path` to validate and to count what `report --json` of the
+// batch's folder `out` counts; returns that report.
+json expect_junit_counts(const std::string& path, const std::string& out) {
+  std::string why;
+  EXPECT_TRUE(test::junit_valid(path, &why)) << why;
+  std::string text;
+  EXPECT_EQ(run_tool("report " + quoted(out) + " --json", &text), 0);
+  const json counts = json::parse(text)["counts"];
+  const int ok = counts["ok"], failed = counts["failed"], skipped = counts["skipped"];
+  for (const std::string& element : std::vector<std::string>{"/testsuites", "/testsuites/testsuite"}) {
+    EXPECT_EQ(xpath(path, "string(" + element + "/@tests)"), std::to_string(ok + failed + skipped)) << element;
+    EXPECT_EQ(xpath(path, "string(" + element + "/@failures)"), std::to_string(failed)) << element;
+    EXPECT_EQ(xpath(path, "string(" + element + "/@skipped)"), std::to_string(skipped)) << element;
+    EXPECT_EQ(xpath(path, "string(" + element + "/@errors)"), "0") << element;
+  }
+  EXPECT_EQ(xpath(path, "count(//testcase)"), std::to_string(ok + failed + skipped));
+  EXPECT_EQ(xpath(path, "count(//testcase/failure)"), std::to_string(failed));
+  EXPECT_EQ(xpath(path, "count(//testcase/skipped)"), std::to_string(skipped));
+  return counts;
+}
+
+TEST(Batch, JUnitReportHasACasePerMeshAndTheBatchsCounts) {
+  const std::string dir = mesh_folder("batch_junit", true);
+  const std::string args = quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out");
+  std::string err;
+  EXPECT_EQ(batch(args + " --jobs 2 --junit " + quoted(dir + "/first.xml"), &err), 2) << err;
+  const json counts = expect_junit_counts(dir + "/first.xml", dir + "/out");
+  EXPECT_EQ(counts, json({{"ok", 8}, {"failed", 1}, {"skipped", 0}}));
+  EXPECT_EQ(summary_counts(err), (std::array<int, 3>{8, 1, 0})) << err;
+  // A case per results line: its input, its time, and a failed mesh's error line.
+  for (const json& line : results(dir + "/out/results.jsonl")) {
+    const std::string input = line["input"], testcase = "//testcase[@name=\"" + input + "\"]";
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.3f", line["ms"].get<double>() / 1000);
+    EXPECT_EQ(xpath(dir + "/first.xml", "string(" + testcase + "/@time)"), seconds) << input;
+    EXPECT_EQ(xpath(dir + "/first.xml", "string(" + testcase + "/@classname)"), "ffdtool.batch") << input;
+    if (line["status"] == "error") {
+      EXPECT_EQ(xpath(dir + "/first.xml", "string(" + testcase + "/failure/@message)"), line["error"].get<std::string>());
+    }
+  }
+  EXPECT_NE(xpath(dir + "/first.xml", "string(//testcase[@name=\"" + dir + "/in/broken.off\"]/failure/@message)").find("broken.off:2"),
+            std::string::npos);
+  EXPECT_NE(xpath(dir + "/first.xml", "string(//testsuite/@timestamp)"), "");
+  // `report --junit` gives the same cases and counts from the log.
+  ASSERT_EQ(run_tool("report " + quoted(dir + "/out") + " --junit " + quoted(dir + "/first-report.xml")), 0);
+  EXPECT_TRUE(test::junit_valid(dir + "/first-report.xml"));
+  EXPECT_EQ(junit_content(dir + "/first-report.xml"), junit_content(dir + "/first.xml"));
+  EXPECT_NE(junit_content(dir + "/first.xml").find("<testcase"), std::string::npos);
+
+  // Resumed: the 8 done meshes are skipped cases, the broken one fails again.
+  EXPECT_EQ(batch(args + " --resume --junit " + quoted(dir + "/second.xml"), &err), 2) << err;
+  EXPECT_EQ(expect_junit_counts(dir + "/second.xml", dir + "/out"), json({{"ok", 0}, {"failed", 1}, {"skipped", 8}}));
+  EXPECT_EQ(summary_counts(err), (std::array<int, 3>{0, 1, 8})) << err;
+  EXPECT_EQ(xpath(dir + "/second.xml", "string(//testcase[@name=\"" + dir + "/in/bunny.obj\"]/skipped/@message)"),
+            "done before with the same input and script (--resume)");
+  ASSERT_EQ(run_tool("report " + quoted(dir + "/out") + " --json --junit " + quoted(dir + "/second-report.xml")), 0);
+  EXPECT_EQ(junit_content(dir + "/second-report.xml"), junit_content(dir + "/second.xml"));
+  EXPECT_NE(junit_content(dir + "/second.xml"), junit_content(dir + "/first.xml"));
+}
+
+TEST(Batch, AJUnitFileThatCannotBeWrittenIsRefusedBeforeAnyWork) {
+  const std::string dir = mesh_folder("batch_junit_bad", false);
+  std::string err;
+  EXPECT_EQ(batch(quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out") + " --junit " +
+                      quoted(dir + "/missing/junit.xml"), &err), 2);
+  test::expect_one_error_line(err, {"missing/junit.xml", "--junit"});
+  EXPECT_FALSE(fs::exists(dir + "/out/results.jsonl"));
+  EXPECT_EQ(batch(quoted(dir + "/s.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out") + " --junit " +
+                      quoted(dir + "/s.json"), &err), 2);
+  test::expect_one_error_line(err, {"would overwrite the script"});
+  EXPECT_FALSE(fs::exists(dir + "/out/results.jsonl"));
+  EXPECT_EQ(read_file(dir + "/s.json"), kScript);
 }
 
 // The item process for one mesh crashes (a stand-in for the real one that kills itself),

@@ -8,7 +8,9 @@
 #include <iostream>
 
 #include "batch/batch.h"
+#include "batch/batch_junit.h"
 #include "batch/batch_report.h"
+#include "common/atomic_file.h"
 #include "common/errors.h"
 #include "common/numbers.h"
 #include "mesh/mesh_compare.h"
@@ -173,7 +175,7 @@ struct Commands {
   bool markdown = false;
   ffd::BatchOptions batch;
   std::string shard, max_memory;
-  std::string report_folder;
+  std::string report_folder, report_junit;
   bool report_json = false;
   std::string heatmap;
   ffdcli::PictureArgs picture;
@@ -206,9 +208,11 @@ void add_batch(CLI::App& app, Commands& c) {
   c.batch_cmd->add_option("--timeout", b.timeout_s, "Seconds per mesh; past it the mesh fails")->check(CLI::PositiveNumber);
   c.batch_cmd->add_option("--max-memory", c.max_memory, "Memory per mesh (bytes, or with K, M, G); past it the mesh fails");
   add_progress(c.batch_cmd, b.progress, "auto: a live line on a terminal's stderr; json: NDJSON events on stderr; none");
+  c.batch_cmd->add_option("--junit", b.junit, "Also write the meshes as a JUnit XML report (one test case each) here");
   c.report_cmd = app.add_subcommand("report", "Summarize a batch's results files");
   c.report_cmd->add_option("folder", c.report_folder, "The batch's output folder")->required();
   c.report_cmd->add_flag("--json", c.report_json, "Print as JSON");
+  c.report_cmd->add_option("--junit", c.report_junit, "Also write the results as a JUnit XML report here");
 }
 
 // "512M" -> bytes. \throw InputError for anything else.
@@ -233,8 +237,10 @@ int command_batch(Commands& c) {
   return ffd::run_batch(c.batch);
 }
 
-int command_report(const std::string& folder, bool as_json) {
+int command_report(const std::string& folder, bool as_json, const std::string& junit) {
+  if (!junit.empty()) ffd::require_output_folder(junit, "--junit");
   const ffd::BatchReport report = ffd::batch_report(folder);
+  if (!junit.empty()) ffd::write_junit(junit, ffd::batch_junit(ffd::read_results(folder), folder));
   if (as_json)
     std::cout << ffd::report_json(report).dump(2) << "\n";
   else
@@ -288,7 +294,7 @@ void add_script_commands(CLI::App& app, Commands& c) {
 // Runs the chosen subcommand; returns its exit code.
 int dispatch(Commands& c) {
   if (*c.batch_cmd) return command_batch(c);
-  if (*c.report_cmd) return command_report(c.report_folder, c.report_json);
+  if (*c.report_cmd) return command_report(c.report_folder, c.report_json, c.report_junit);
   if (*c.run_cmd) {
     ffd::run_script(c.run);
     return 0;

@@ -26,11 +26,13 @@ struct BatchOptions {
   std::size_t max_memory = 0;        // per item, bytes of address space; 0: none
   std::string runner;                // the ffdtool that runs items; "": this one
   ProgressMode progress = ProgressMode::None;  // a live line or events on stderr
+  std::string junit;                 // a JUnit XML report of the items, written at the end; "": none
 };
 
 /// Runs the batch and returns its exit code: the worst of its items' (0, 2 or 3). Every
 /// item's output is what `ffdtool run` writes for it (its saves under OUTDIR/name/), and
-/// a line of the results log. \throw InputError before any work for a bad script, bad
+/// a line of the results log; with `junit`, the items (skipped ones too) as a JUnit XML
+/// report once they have ended, or once a failure stopped the batch. \throw InputError before any work for a bad script, bad
 /// inputs or options; IoError if the output folder or the log cannot be written.
 int run_batch(const BatchOptions& options);
 

@@ -7,15 +7,18 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <thread>
 
+#include "batch/batch_junit.h"
 #include "batch/child_process.h"
 #include "batch/results_log.h"
 #include "batch/sha256.h"
+#include "common/atomic_file.h"
 #include "common/errors.h"
 #include "common/numbers.h"
 #include "common/timer.h"
@@ -48,6 +51,17 @@ std::size_t available_cores() {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
+// --junit FILE: its folder exists, and it is neither the script nor an input.
+void check_junit_path(const BatchOptions& options, const std::vector<BatchItem>& items) {
+  require_output_folder(options.junit, "--junit");
+  std::error_code ec;
+  if (!fs::exists(options.junit, ec)) return;
+  const auto same = [&](const std::string& file) { return fs::equivalent(options.junit, file, ec); };
+  if (same(options.script)) throw InputError(At{options.junit}, "--junit would overwrite the script");
+  for (const BatchItem& item : items)
+    if (same(item.input)) throw InputError(At{options.junit}, "--junit would overwrite the input mesh " + item.input);
+}
+
 Plan plan_batch(const BatchOptions& options) {
   Plan plan;
   plan.options = options;
@@ -59,6 +73,7 @@ Plan plan_batch(const BatchOptions& options) {
   if (!fs::is_directory(options.output_folder, ec))
     throw InputError(At{options.output_folder}, "cannot create the output folder");
   const std::vector<BatchItem> all = batch_items(options.inputs, options.recursive, options.output_folder, options.format);
+  if (!options.junit.empty()) check_junit_path(options, all);
   plan.total = all.size();
   plan.shard = options.shard ? options.shard : shard_from_environment();
   plan.items = plan.shard ? shard_items(all, *plan.shard) : all;
@@ -205,6 +220,7 @@ public:
 
   int worst = 0;
   std::size_t ok = 0, failed = 0;
+  std::vector<ResultRecord> records;  // of the items that ended, in the order they did
 
 private:
   static double seconds(const Running& r) {
@@ -216,6 +232,7 @@ private:
     if (end.exit != 0) remove_leftovers(r.item, r.child.pid);
     const ResultRecord record = record_of(plan_, r.item, end, ms, r.stats_path, r.stderr_path);
     log_.append(record);
+    records.push_back(record);
     worst = std::max(worst, end.exit);
     const std::string message = record["error"].get<std::string>();
     progress_.item_end(r.item.input, end.exit == 0 ? "ok" : "error", ms, message);
@@ -262,10 +279,45 @@ std::map<std::string, ResultRecord> earlier_records(const Plan& plan) {
   return out;
 }
 
+// The JUnit report of a batch's items (--junit): those skipped and those that ended, its
+// wall time and start.
+void write_batch_junit(const Plan& plan, const std::vector<ResultRecord>& skipped, const ItemPool& pool,
+                       double ms, std::time_t started) {
+  std::vector<ResultRecord> records = skipped;
+  records.insert(records.end(), pool.records.begin(), pool.records.end());
+  JUnitSuite suite = batch_junit(records, plan.options.output_folder);
+  suite.seconds = ms / 1000;
+  suite.timestamp = junit_timestamp(started);
+  suite.hostname = junit_hostname();
+  write_junit(plan.options.junit, suite);
+}
+
+// Runs the pending items, at most plan.jobs at once. With --junit, the items that ended
+// are reported even when a failure (of the log, of starting a process) stops the batch.
+void run_items(const Plan& plan, const std::vector<BatchItem>& pending, const std::vector<ResultRecord>& skipped,
+               ItemPool& pool, const Stopwatch& clock, std::time_t started) {
+  try {
+    for (std::size_t next = 0; next < pending.size() || !pool.empty();) {
+      while (!pool.full() && next < pending.size()) pool.start(pending[next++]);
+      if (!pool.reap()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  } catch (const std::exception&) {
+    if (!plan.options.junit.empty()) {
+      try {
+        write_batch_junit(plan, skipped, pool, clock.ms(), started);
+      } catch (const std::exception&) {  // the first failure is the one to report
+      }
+    }
+    throw;
+  }
+  if (!plan.options.junit.empty()) write_batch_junit(plan, skipped, pool, clock.ms(), started);
+}
+
 }  // namespace
 
 int run_batch(const BatchOptions& options) {
   Stopwatch clock;
+  const std::time_t started = std::time(nullptr);
   Plan plan = plan_batch(options);
   const std::map<std::string, ResultRecord> earlier = earlier_records(plan);
   std::vector<BatchItem> pending;
@@ -293,10 +345,7 @@ int run_batch(const BatchOptions& options) {
   plan.temp = (fs::temp_directory_path() / ("ffdtool-batch-" + std::to_string(::getpid()))).string();
   fs::create_directories(plan.temp);
   ItemPool pool(plan, log, progress);
-  for (std::size_t next = 0; next < pending.size() || !pool.empty();) {
-    while (!pool.full() && next < pending.size()) pool.start(pending[next++]);
-    if (!pool.reap()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
+  run_items(plan, pending, skipped, pool, clock, started);
   std::error_code ec;
   fs::remove_all(plan.temp, ec);
   progress.finish();
