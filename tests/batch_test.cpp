@@ -263,6 +263,61 @@ TEST(Batch, AJUnitFileThatCannotBeWrittenIsRefusedBeforeAnyWork) {
   EXPECT_EQ(read_file(dir + "/s.json"), kScript);
 }
 
+// pig.off and pig.stl side by side (two different real meshes): each is named by its file
+// name, pig_off and pig_stl, and gives what a single run gives; --resume skips both.
+TEST(Batch, InputsThatShareAStemAreNamedByTheirFileNames) {
+  const std::string dir = mesh_folder("batch_stem", false);
+  fs::create_directories(dir + "/pair");
+  fs::copy(dir + "/in/pig.stl", dir + "/pair/pig.stl");
+  fs::copy(dir + "/in/elephant.off", dir + "/pair/pig.off");
+  fs::copy(dir + "/in/bunny.obj", dir + "/pair/bunny.obj");  // a stem of its own keeps its name
+  const std::string args = quoted(dir + "/s.json") + " " + quoted(dir + "/pair") + " -o " + quoted(dir + "/out") + " --format obj";
+  std::string err;
+  ASSERT_EQ(batch(args, &err), 0) << err;
+  EXPECT_EQ(test::files_in(dir + "/out"),
+            (std::set<std::string>{"bunny.obj", "bunny", "pig_off.obj", "pig_off", "pig_stl.obj", "pig_stl", "results.jsonl"}));
+  for (const std::string& name : std::vector<std::string>{"pig_off", "pig_stl", "bunny"}) {
+    const std::string input = dir + "/pair/" + (name == "bunny" ? "bunny.obj" : name == "pig_off" ? "pig.off" : "pig.stl");
+    const std::string single = dir + "/single/" + name;
+    fs::create_directories(single + "/mid");
+    ASSERT_EQ(run_tool("run " + quoted(input) + " " + quoted(dir + "/s.json") + " -o " + quoted(single + "/" + name + ".obj") +
+                       " --quiet"), 0);
+    EXPECT_EQ(read_file(dir + "/out/" + name + ".obj"), read_file(single + "/" + name + ".obj")) << name;
+    EXPECT_EQ(read_file(dir + "/out/" + name + "/mid/stretched.obj"), read_file(single + "/mid/stretched.obj")) << name;
+  }
+  EXPECT_NE(read_file(dir + "/out/pig_off.obj"), read_file(dir + "/out/pig_stl.obj"));
+  std::map<std::string, std::string> outputs;
+  for (const json& line : results(dir + "/out/results.jsonl")) outputs[line["input"]] = line["output"];
+  EXPECT_EQ(outputs[dir + "/pair/pig.off"], dir + "/out/pig_off.obj");
+  EXPECT_EQ(outputs[dir + "/pair/pig.stl"], dir + "/out/pig_stl.obj");
+  const auto bytes = files_under(dir + "/out");
+  ASSERT_EQ(batch(args + " --resume", &err), 0) << err;
+  const std::vector<json> lines = results(dir + "/out/results.jsonl");
+  EXPECT_EQ(lines.size(), 3u);
+  for (const json& line : lines) EXPECT_EQ(line["status"], "skipped") << line.dump();
+  EXPECT_EQ(files_under(dir + "/out"), bytes);
+}
+
+// Names that still collide are refused before any work, naming both files.
+TEST(Batch, NamesThatStillCollideAreRefused) {
+  const std::string dir = mesh_folder("batch_collide", false);
+  fs::create_directories(dir + "/deep/a");
+  fs::create_directories(dir + "/deep/b");
+  fs::copy(dir + "/in/cube.off", dir + "/deep/a/pig.off");
+  fs::copy(dir + "/in/octahedron.off", dir + "/deep/b/pig.off");
+  std::string err;
+  EXPECT_EQ(batch(quoted(dir + "/s.json") + " " + quoted(dir + "/deep") + " --recursive -o " + quoted(dir + "/out"), &err), 2);
+  test::expect_one_error_line(err, {dir + "/deep/a/pig.off", dir + "/deep/b/pig.off", "'pig_off'", "share a stem"});
+  EXPECT_FALSE(fs::exists(dir + "/out/results.jsonl"));
+  fs::create_directories(dir + "/three");
+  fs::copy(dir + "/in/pig.stl", dir + "/three/pig.stl");
+  fs::copy(dir + "/in/cube.off", dir + "/three/pig.off");
+  fs::copy(dir + "/in/bunny.obj", dir + "/three/pig_off.obj");
+  EXPECT_EQ(batch(quoted(dir + "/s.json") + " " + quoted(dir + "/three") + " -o " + quoted(dir + "/out"), &err), 2);
+  test::expect_one_error_line(err, {dir + "/three/pig.off", dir + "/three/pig_off.obj", "'pig_off'"});
+  EXPECT_FALSE(fs::exists(dir + "/out/results.jsonl"));
+}
+
 // The item process for one mesh crashes (a stand-in for the real one that kills itself),
 // another one runs past its time: both fail alone.
 TEST(Batch, ACrashAndATimeoutStopNothingElse) {

@@ -58,6 +58,28 @@ void expand_input(const std::string& input, bool recursive, std::vector<std::str
   out.push_back(input);
 }
 
+// Each file's item name: its stem, or, for files that share their stem with another
+// input, its file name with the extension's dot made '_' ("pig.off" -> "pig_off").
+// \throw InputError naming both files when two names are still the same.
+std::vector<std::string> item_names(const std::vector<std::string>& files) {
+  std::map<std::string, std::size_t> stems;
+  for (const std::string& file : files) ++stems[fs::path(file).stem().string()];
+  std::vector<std::string> names;
+  std::map<std::string, std::size_t> by_name;
+  for (const std::string& file : files) {
+    const fs::path path(file);
+    const bool shared = stems[path.stem().string()] > 1;
+    const std::string extension = path.extension().string();
+    names.push_back(path.stem().string() + (shared && !extension.empty() ? "_" + extension.substr(1) : ""));
+    const auto [seen, fresh] = by_name.emplace(names.back(), names.size() - 1);
+    if (!fresh)
+      throw InputError(At{file}, "has the same name '" + names.back() + "' as " + files[seen->second] +
+                                     " (inputs that share a stem are named by their file name, the extension's dot "
+                                     "made '_'), so both would be written to one output");
+  }
+  return names;
+}
+
 }  // namespace
 
 std::vector<BatchItem> batch_items(const std::vector<std::string>& inputs, bool recursive,
@@ -74,22 +96,19 @@ std::vector<BatchItem> batch_items(const std::vector<std::string>& inputs, bool 
   }
   std::sort(files.begin(), files.end());
   if (files.empty()) throw InputError("no mesh file among the inputs");
-  std::map<std::string, std::string> by_name;
+  for (const std::string& file : files) mesh_format(file);  // names the file when its extension is not a mesh format
+  const std::vector<std::string> names = item_names(files);
   std::vector<BatchItem> items;
-  for (const std::string& file : files) {
-    mesh_format(file);  // names the file when its extension is not a mesh format
+  for (std::size_t i = 0; i < files.size(); ++i) {
     BatchItem item;
-    item.index = items.size();
-    item.input = file;
-    item.name = fs::path(file).stem().string();
-    const auto [seen, fresh] = by_name.emplace(item.name, file);
-    if (!fresh) throw InputError(At{file}, "has the same name as " + seen->second + ", so both would be written to one output");
-    const std::string extension = format.empty() ? fs::path(file).extension().string() : "." + format;
+    item.index = i;
+    item.input = files[i];
+    item.name = names[i];
+    const std::string extension = format.empty() ? fs::path(item.input).extension().string() : "." + format;
     item.output = (fs::path(output_folder) / (item.name + extension)).string();
     item.save_folder = (fs::path(output_folder) / item.name).string();
-    std::error_code ec;
-    if (fs::exists(item.output, ec) && fs::equivalent(item.output, file, ec))
-      throw InputError(At{file}, "its output " + item.output + " would overwrite it");
+    if (fs::exists(item.output, ec) && fs::equivalent(item.output, item.input, ec))
+      throw InputError(At{item.input}, "its output " + item.output + " would overwrite it");
     mesh_format(item.output);
     items.push_back(item);
   }
