@@ -377,6 +377,23 @@ TEST(Batch, ItsOwnOutputsAreNotInputs) {
   EXPECT_FALSE(fs::exists(dir + "/in/out/out"));
 }
 
+// A script that no mesh could run (an octree move selecting points by plain numbers) is
+// refused with the script, before any mesh runs: one line, exit 2, nothing written.
+TEST(Batch, AScriptThatCannotRunOnAnyMeshRunsOnNone) {
+  const std::string dir = mesh_folder("batch_bad_indices", false);
+  write_file(dir + "/octree.json", R"({"version":1,"steps":[
+ {"op":"lattice","name":"o","basis":"octree","levels":2},
+ {"op":"move","lattice":"o","select":{"indices":[3,4]},"transform":{"translate":[0.1,0,0]}}]})");
+  std::string out, err;
+  EXPECT_EQ(run_tool("validate " + quoted(dir + "/octree.json"), &out, &err), 2);
+  test::expect_one_error_line(err, {dir + "/octree.json: /steps/1/select/indices/0: expected a lattice index [i, j, k]"});
+  EXPECT_EQ(batch(quoted(dir + "/octree.json") + " " + quoted(dir + "/in") + " -o " + quoted(dir + "/out") + " --junit " +
+                      quoted(dir + "/junit.xml"), &err), 2);
+  test::expect_one_error_line(err, {dir + "/octree.json: /steps/1/select/indices/0: expected a lattice index [i, j, k]"});
+  EXPECT_TRUE(!fs::exists(dir + "/out") || fs::is_empty(dir + "/out")) << "a mesh ran or a log was started";
+  EXPECT_FALSE(fs::exists(dir + "/junit.xml"));
+}
+
 TEST(Batch, BadInputsAreRefusedBeforeAnyWork) {
   const std::string dir = mesh_folder("batch_bad", false);
   fs::create_directories(dir + "/other");

@@ -350,5 +350,83 @@ TEST(ScriptSchema, ChecksTheDemoScriptAndFillsDefaults) {
   EXPECT_EQ(resolved["steps"][3]["transform"]["scale"], 1);
 }
 
+// Point and cell indices are checked with the script, before any mesh is read: their
+// form ([i, j, k] on lattices and octrees, a number on scattered points), the movable
+// ranges the script decides, and no selection file for control points, with the messages
+// and places the run would give.
+TEST(ScriptParse, PointAndCellIndicesAreCheckedBeforeAnyMesh) {
+  const std::string octree = R"({"op": "lattice", "name": "o", "basis": "octree", "levels": 2})";
+  const std::string translate = R"("transform": {"translate": [0.1, 0, 0]}})";
+  expect_script_error(with_steps(octree + R"(, {"op": "move", "lattice": "o", "select": {"indices": [3, 4]}, )" + translate),
+                      "/steps/1/select/indices/0", {"expected a lattice index [i, j, k]"});
+  expect_script_error(with_steps(octree + R"(, {"op": "move", "lattice": "o", "level": 1,
+      "select": [{"near": [0, 0, 0]}, {"indices": [[1, 1, 1], [3, 0, 0]]}], )" + translate),
+                      "/steps/1/select/1/indices/1", {"point [3,0,0] is not movable", "[0, 2]"});
+  EXPECT_NO_THROW(parse_script(with_steps(octree + R"(, {"op": "move", "lattice": "o", "level": 1,
+      "select": {"indices": [[0, 1, 2], [2, 2, 2]]}, )" + translate), "s.json"));
+  // B-spline: a number for [i, j, k], and a point outside the movable range.
+  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+      "points": [{"index": 7, "by": [0, 0, 1]}]})"),
+                      "/steps/1/points/0/index", {"expected a lattice index [i, j, k]"});
+  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+      "select": {"indices": [[3, 3, 3], [0, 3, 3]]}, )" + translate),
+                      "/steps/1/select/indices/1", {"point [0,3,3] is not movable", "i in [2, 4]"});
+  // Scattered points: [i, j, k] for a number, and a number past the list.
+  const std::string idw = R"({"op": "idw", "name": "w", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]})";
+  expect_script_error(with_steps(idw + R"(, {"op": "move", "lattice": "w", "points": [{"index": [1, 2, 3], "by": [0, 0, 1]}]})"),
+                      "/steps/1/points/0/index", {"expected the number of one of its control points (an integer), found [1,2,3]"});
+  expect_script_error(with_steps(idw + R"(, {"op": "move", "lattice": "w", "select": {"indices": [0, [1, 2, 3]]}, )" + translate),
+                      "/steps/1/select/indices/1", {"expected the number of one of its control points", "[1,2,3]"});
+  expect_script_error(with_steps(idw + R"(, {"op": "move", "lattice": "w", "select": {"indices": [3]}, )" + translate),
+                      "/steps/1/select/indices/0", {"point 3 is not movable", "control points 0 to 2"});
+  EXPECT_NO_THROW(parse_script(with_steps(idw + R"(, {"op": "move", "lattice": "w", "select": {"indices": [0, 2]}, )" + translate), "s.json"));
+  // Subdivide's cells: [i, j, k] within the level's 2^level cells per axis.
+  expect_script_error(with_steps(octree + R"(, {"op": "subdivide", "lattice": "o", "cells": {"indices": [[0, 0, 0], 5]}})"),
+                      "/steps/1/cells/indices/1", {"expected a lattice index [i, j, k]"});
+  expect_script_error(with_steps(octree + R"(, {"op": "subdivide", "lattice": "o", "level": 1, "cells": {"indices": [[0, 2, 0]]}})"),
+                      "/steps/1/cells/indices/0", {"cell [0,2,0] is not one of the kept cells of level 1", "[0, 1]"});
+  EXPECT_NO_THROW(parse_script(with_steps(octree + R"(, {"op": "subdivide", "lattice": "o", "cells": {"indices": [[3, 3, 3]]}})"), "s.json"));
+  // Mesh vertex selections take vertex numbers.
+  expect_script_error(with_steps(R"({"op": "bcm", "name": "e", "support": {"indices": [0, [1, 2, 3]]},
+      "handles": [{"name": "h", "select": {"indices": [0]}}]})"),
+                      "/steps/0/support/indices/1", {"expected a vertex index, found a lattice index"});
+  expect_script_error(with_steps(R"({"op": "rbf", "name": "r", "points": {"select": {"indices": [[0, 0, 0]]}}})"),
+                      "/steps/0/points/select/indices/0", {"expected a vertex index, found a lattice index"});
+  expect_script_error(with_steps(R"({"op": "lattice", "name": "b", "cells": [4, 4, 4],
+      "box": {"fit": "aabb", "select": [{"near": [0, 0, 0]}, {"indices": [[0, 0, 0]]}]}})"),
+                      "/steps/0/box/select/1/indices/0", {"expected a vertex index, found a lattice index"});
+}
+
+// A selection file lists mesh vertices: given for control points, the script is refused.
+TEST(ScriptParse, ASelectionFileForControlPointsIsRefused) {
+  const std::string dir = test::temp_folder("script_selection_file");
+  test::write_file(dir + "/sel.txt", "1\n2\n");
+  test::write_file(dir + "/s.json", with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+      "select": [{"indices": [[3, 3, 3]]}, {"file": "sel.txt"}], "transform": {"translate": [0.1, 0, 0]}})"));
+  test::expect_input_error([&] { load_script(dir + "/s.json"); }, dir + "/s.json: /steps/1/select/1: ",
+                           {"a selection file lists mesh vertices, not lattice points"});
+  test::write_file(dir + "/octree.json", with_steps(R"({"op": "lattice", "name": "o", "basis": "octree", "levels": 1},
+      {"op": "subdivide", "lattice": "o", "cells": {"file": "sel.txt"}})"));
+  test::expect_input_error([&] { load_script(dir + "/octree.json"); }, dir + "/octree.json: /steps/1/cells: ",
+                           {"a selection file lists mesh vertices"});
+}
+
+// `ffdtool validate` refuses what no mesh could run: a number for a B-spline lattice's
+// [i, j, k], [i, j, k] for an idw deformer's number.
+TEST(ScriptParse, ValidateRefusesIndicesOfTheWrongForm) {
+  const std::string dir = test::temp_folder("validate_index_form");
+  test::write_file(dir + "/bspline.json", with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+      "points": [{"index": 3, "by": [0, 0, 1]}]})"));
+  std::string out, err;
+  EXPECT_EQ(test::run_tool("validate " + test::quoted(dir + "/bspline.json"), &out, &err), 2);
+  test::expect_one_error_line(err, {dir + "/bspline.json: /steps/1/points/0/index: expected a lattice index [i, j, k]"});
+  EXPECT_EQ(out, "");
+  test::write_file(dir + "/idw.json", with_steps(R"({"op": "idw", "name": "w", "points": [[0, 0, 0], [1, 0, 0]]},
+      {"op": "move", "lattice": "w", "points": [{"index": [0, 0, 0], "by": [0, 0, 1]}]})"));
+  EXPECT_EQ(test::run_tool("validate " + test::quoted(dir + "/idw.json"), &out, &err), 2);
+  test::expect_one_error_line(err, {dir + "/idw.json: /steps/1/points/0/index: expected the number of one of its "
+                                    "control points (an integer), found [0,0,0]"});
+}
+
 }  // namespace
 }  // namespace ffd

@@ -19,7 +19,7 @@ std::optional<std::size_t> OctreeLattice::find_point(int level, const PointIndex
 }
 
 std::string OctreeLattice::missing_point(int level, const PointIndex& index) const {
-  if (!index.grid) return "expected a lattice index [i, j, k]";
+  if (const std::optional<std::string> form = index_form_problem(index, true, "points")) return *form;
   return "point " + index.text() + " is no corner of a cell of level " + std::to_string(level) +
          " (its cells were cut: they hold no vertex of the region)";
 }

@@ -107,6 +107,8 @@ void BcmStep::check(ScriptChecks& checks) const {
     names.push_back(handles[j].name);
   }
   checks.editor_handles[name] = names;
+  check_vertex_selection(support);
+  for (const HandleSpec& handle : handles) check_vertex_selection(handle.select);
 }
 
 void BcmStep::run(Scene& scene, StepContext& ctx) const {

@@ -37,6 +37,7 @@ KeyTable<IdwStep> idw_keys() {
 void IdwStep::check(ScriptChecks& checks) const {
   checks.check_new_lattice(name, pointer + "/name");
   if (!(power > 0)) checks.fail(pointer + "/power", "the power must be positive");
+  check_point_source(points);
   checks.deformers[name] = scattered_shape("idw", points.select ? 0 : points.points.size(), "control points");
 }
 

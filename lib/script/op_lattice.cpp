@@ -102,6 +102,7 @@ void LatticeStep::check_octree_options(ScriptChecks& checks) const {
 
 void LatticeStep::check(ScriptChecks& checks) const {
   checks.check_new_lattice(name, pointer + "/name");
+  if (box.select) check_vertex_selection(*box.select);
   if (basis == Basis::Octree) return check_octree_options(checks);
   if (shrink) checks.fail(pointer + "/shrink", "shrink is for octree lattices");
   if (enclose) checks.fail(pointer + "/enclose", "enclose is for octree lattices");

@@ -87,9 +87,8 @@ void MoveStep::check(ScriptChecks& checks) const {
   const int l = checks.check_lattice_level(lattice, level, pointer);
   const DeformerShape& shape = checks.deformers.at(lattice);
   for (std::size_t i = 0; i < points.size(); ++i)
-    if (const std::optional<std::string> movable = shape.unmovable(l, points[i].index))
-      checks.fail(pointer + "/points/" + std::to_string(i) + "/index",
-                  "point " + points[i].index.text() + " is not movable (movable: " + *movable + ")");
+    checks.check_point_index(shape, l, points[i].index, pointer + "/points/" + std::to_string(i) + "/index");
+  if (select) check_point_selection(*select, shape, l);
 }
 
 // Listed points, in order; a point listed again moves on from where the list put it. The

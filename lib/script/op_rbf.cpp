@@ -52,6 +52,7 @@ KeyTable<RbfStep> rbf_keys() {
 void RbfStep::check(ScriptChecks& checks) const {
   checks.check_new_lattice(name, pointer + "/name");
   if (!(options.radius > 0)) checks.fail(pointer + "/radius", "the radius must be positive");
+  check_point_source(points);
   checks.deformers[name] = scattered_shape("rbf", points.select ? 0 : points.points.size(), "control points");
 }
 

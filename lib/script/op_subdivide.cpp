@@ -42,6 +42,7 @@ void SubdivideStep::check(ScriptChecks& checks) const {
     checks.fail(pointer + "/level", "lattice '" + lattice + "' has octree levels 0 to " +
                                         std::to_string(shape.subdividable) +
                                         " (a level made by subdivide cannot be subdivided again)");
+  check_cell_selection(cells, level.value_or(shape.subdividable));
   ++shape.levels;
 }
 

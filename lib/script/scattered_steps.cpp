@@ -6,12 +6,18 @@ namespace ffd {
 
 DeformerShape scattered_shape(const std::string& kind, std::size_t count, const std::string& noun) {
   DeformerShape shape{kind, false, 0, -1, nullptr};
+  shape.grid = false;
+  shape.noun = noun;
   shape.unmovable = [count, noun](int, const PointIndex& index) -> std::optional<std::string> {
     const std::string text = count ? noun + " 0 to " + std::to_string(count - 1) : "its " + noun + "' numbers";
     if (index.grid || index.n < 0 || (count && static_cast<std::size_t>(index.n) >= count)) return text;
     return std::nullopt;
   };
   return shape;
+}
+
+void check_point_source(const PointSource& source) {
+  if (source.select) check_vertex_selection(*source.select);
 }
 
 std::vector<Eigen::Vector3d> rest_points(const PointSource& source, const Scene& scene) {

@@ -17,6 +17,9 @@ namespace ffd {
 /// or, when `count` is 0 (known only when the step runs), any non-negative number.
 DeformerShape scattered_shape(const std::string& kind, std::size_t count, const std::string& noun);
 
+/// Checks what the script decides of `source`: a selection's indices are vertex numbers.
+void check_point_source(const PointSource& source);
+
 /// The points of `source`: its list or file, or the selected vertices' current positions.
 std::vector<Eigen::Vector3d> rest_points(const PointSource& source, const Scene& scene);
 

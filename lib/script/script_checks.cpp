@@ -46,6 +46,13 @@ int ScriptChecks::check_lattice_level(const std::string& name, const std::option
   return level.value_or(shape.levels);
 }
 
+void ScriptChecks::check_point_index(const DeformerShape& shape, int level, const PointIndex& index,
+                                     const std::string& pointer) const {
+  if (const std::optional<std::string> form = index_form_problem(index, shape.grid, shape.noun)) fail(pointer, *form);
+  if (const std::optional<std::string> movable = shape.unmovable(level, index))
+    fail(pointer, "point " + index.text() + " is not movable (movable: " + *movable + ")");
+}
+
 void ScriptChecks::check_new_lattice(const std::string& name, const std::string& pointer) const {
   if (deformers.count(name)) fail(pointer, "a lattice named '" + name + "' already exists");
 }

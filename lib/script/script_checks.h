@@ -28,6 +28,10 @@ struct DeformerShape {
   /// nothing when it may be one (the run checks what only the mesh decides, such as an
   /// octree's cut cells).
   std::function<std::optional<std::string>(int, const PointIndex&)> unmovable;
+  /// How its points are named: grid nodes [i, j, k] (lattices), or numbered among its
+  /// `noun` (scattered points: "control points", "cage vertices").
+  bool grid = true;
+  std::string noun = "points";
 };
 
 class ScriptChecks {
@@ -47,6 +51,11 @@ public:
   int check_lattice_level(const std::string& name, const std::optional<int>& level, const std::string& pointer) const;
   /// Fails at `pointer` when a lattice called `name` exists already.
   void check_new_lattice(const std::string& name, const std::string& pointer) const;
+  /// Fails at `pointer` unless `index` may name a movable point of level `level` of a
+  /// deformer of `shape`: its form ([i, j, k] or a number, index_form_problem), then its
+  /// range (`shape.unmovable`), with the messages the run would give.
+  void check_point_index(const DeformerShape& shape, int level, const PointIndex& index,
+                         const std::string& pointer) const;
 
   /// Deformers by name, as the steps so far made them.
   std::map<std::string, DeformerShape> deformers;

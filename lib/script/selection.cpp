@@ -49,6 +49,33 @@ std::string index_place(const SelectionPart& part, std::size_t i) {
   return part.place + "/indices/" + std::to_string(i);
 }
 
+PointIndex point_index_of(const SelectionPart::Entry& e) { return PointIndex{e.lattice, e.ijk, e.vertex}; }
+
+const char* kLatticeIndexForVertex = "expected a vertex index, found a lattice index";
+const char* kFileForPoints = "a selection file lists mesh vertices, not lattice points";
+
+std::string point_not_movable(const std::string& text, const std::string& movable) {
+  return "point " + text + " is not movable (movable: " + movable + ")";
+}
+
+// The cells of a grid level that subdivide can pick, for messages.
+std::string kept_cells_text(int level, int resolution) {
+  return "the kept cells of level " + std::to_string(level) + ", [i, j, k] in [0, " + std::to_string(resolution - 1) + "]";
+}
+
+std::string cell_not_kept(const std::string& text, const std::string& kept) { return "cell " + text + " is not one of " + kept; }
+
+// Fails at the first index entry of `selection` that `problem` finds fault with, and at
+// a file part unless `files` (a file lists vertices).
+void check_entries(const Selection& selection, bool files,
+                   const std::function<std::optional<std::string>(const SelectionPart::Entry&)>& problem) {
+  for (const SelectionPart& part : selection.parts) {
+    if (part.kind == SelectionPart::Kind::File && !files) throw InputError(At{part.place}, kFileForPoints);
+    for (std::size_t i = 0; i < part.indices.size(); ++i)
+      if (const std::optional<std::string> why = problem(part.indices[i])) throw InputError(At{index_place(part, i)}, *why);
+  }
+}
+
 std::string out_of_range(long long v, std::size_t n) {
   return "vertex " + std::to_string(v) + " is out of range (the mesh has " + std::to_string(n) + " vertices)";
 }
@@ -87,7 +114,7 @@ std::vector<std::uint32_t> select_vertices(const Selection& selection,
     if (part.kind == SelectionPart::Kind::Indices) {
       for (std::size_t i = 0; i < part.indices.size(); ++i) {
         const SelectionPart::Entry& e = part.indices[i];
-        if (e.lattice) throw InputError(At{index_place(part, i)}, "expected a vertex index, found a lattice index");
+        if (e.lattice) throw InputError(At{index_place(part, i)}, kLatticeIndexForVertex);
         if (e.vertex < 0 || static_cast<std::size_t>(e.vertex) >= n)
           throw InputError(At{index_place(part, i)}, out_of_range(e.vertex, n));
         picked.push_back(static_cast<std::size_t>(e.vertex));
@@ -108,16 +135,17 @@ std::vector<std::uint32_t> select_vertices(const Selection& selection,
 
 namespace {
 
-/// Control points a selection can pick: their positions, the flat index of a grid index
-/// (none when out of range or not movable), which are movable, and a text of which are.
-/// Entries are points' script indices: [i, j, k] on grids, plain integers for scattered
-/// points (`grid` false).
+/// Control points a selection can pick: their positions, why an index has the wrong form
+/// ([i, j, k] on grids, plain integers for scattered points), the flat index of an index
+/// (none when out of range or not movable), which are movable, a text of which are, and
+/// why an index names none of them.
 struct PickablePoints {
   Eigen::Matrix3Xd points;
-  bool grid = true;
+  std::function<std::optional<std::string>(const PointIndex&)> misformed;
   std::function<std::optional<std::size_t>(const PointIndex&)> flat;
   std::function<bool(std::size_t)> movable;
   std::string movable_text;
+  std::function<std::string(const std::string&)> unknown;
 };
 
 std::vector<std::size_t> pick_points(const Selection& selection, const PickablePoints& pick) {
@@ -126,14 +154,14 @@ std::vector<std::size_t> pick_points(const Selection& selection, const PickableP
     if (part.kind == SelectionPart::Kind::Indices) {
       for (std::size_t i = 0; i < part.indices.size(); ++i) {
         const SelectionPart::Entry& e = part.indices[i];
-        if (pick.grid && !e.lattice) throw InputError(At{index_place(part, i)}, "expected a lattice index [i, j, k]");
-        const std::optional<std::size_t> flat = pick.flat(PointIndex{e.lattice, e.ijk, e.vertex});
-        if (!flat)
-          throw InputError(At{index_place(part, i)}, "point " + e.text + " is not movable (movable: " + pick.movable_text + ")");
+        if (const std::optional<std::string> why = pick.misformed(point_index_of(e)))
+          throw InputError(At{index_place(part, i)}, *why);
+        const std::optional<std::size_t> flat = pick.flat(point_index_of(e));
+        if (!flat) throw InputError(At{index_place(part, i)}, pick.unknown(e.text));
         picked.push_back(*flat);
       }
     } else if (part.kind == SelectionPart::Kind::File) {
-      throw InputError(At{part.place}, "a selection file lists mesh vertices, not lattice points");
+      throw InputError(At{part.place}, kFileForPoints);
     } else {
       geometric_pick(part, pick.points, [&](Eigen::Index i) { return pick.movable(static_cast<std::size_t>(i)); }, picked);
     }
@@ -149,7 +177,10 @@ std::vector<std::size_t> pick_points(const Selection& selection, const PickableP
 std::vector<std::size_t> select_points(const Selection& selection, const Deformer& deformer, int level) {
   PickablePoints pick;
   pick.points = deformer.points(level);
-  pick.grid = deformer.grid_indexed();
+  pick.misformed = [&](const PointIndex& index) -> std::optional<std::string> {
+    if (index.grid == deformer.grid_indexed()) return std::nullopt;
+    return deformer.missing_point(level, index);  // which says what form it expects
+  };
   pick.flat = [&](const PointIndex& index) -> std::optional<std::size_t> {
     const std::optional<std::size_t> id = deformer.find_point(level, index);
     if (!id || !deformer.point_movable(level, *id)) return std::nullopt;
@@ -157,6 +188,7 @@ std::vector<std::size_t> select_points(const Selection& selection, const Deforme
   };
   pick.movable = [&](std::size_t id) { return deformer.point_movable(level, id); };
   pick.movable_text = deformer.movable_text(level);
+  pick.unknown = [&](const std::string& text) { return point_not_movable(text, pick.movable_text); };
   return pick_points(selection, pick);
 }
 
@@ -172,10 +204,37 @@ std::vector<std::size_t> select_octree_cells(const Selection& selection, const O
     if (c < 0) return std::nullopt;
     return static_cast<std::size_t>(c);
   };
+  pick.misformed = [](const PointIndex& index) { return index_form_problem(index, true, "cells"); };
   pick.movable = [](std::size_t) { return true; };
-  pick.movable_text = "the kept cells of level " + std::to_string(level) + ", [i, j, k] in [0, " +
-                      std::to_string(g.resolution - 1) + "]";
+  pick.movable_text = kept_cells_text(level, g.resolution);
+  pick.unknown = [&](const std::string& text) { return cell_not_kept(text, pick.movable_text); };
   return pick_points(selection, pick);
+}
+
+void check_point_selection(const Selection& selection, const DeformerShape& shape, int level) {
+  check_entries(selection, false, [&](const SelectionPart::Entry& e) -> std::optional<std::string> {
+    const PointIndex index = point_index_of(e);
+    if (const std::optional<std::string> form = index_form_problem(index, shape.grid, shape.noun)) return form;
+    if (const std::optional<std::string> movable = shape.unmovable(level, index)) return point_not_movable(e.text, *movable);
+    return std::nullopt;
+  });
+}
+
+void check_cell_selection(const Selection& selection, int level) {
+  const int resolution = 1 << level;
+  check_entries(selection, false, [&](const SelectionPart::Entry& e) -> std::optional<std::string> {
+    if (const std::optional<std::string> form = index_form_problem(point_index_of(e), true, "cells")) return form;
+    for (int a = 0; a < 3; ++a)
+      if (e.ijk[a] < 0 || e.ijk[a] >= resolution) return cell_not_kept(e.text, kept_cells_text(level, resolution));
+    return std::nullopt;
+  });
+}
+
+void check_vertex_selection(const Selection& selection) {
+  check_entries(selection, true, [](const SelectionPart::Entry& e) -> std::optional<std::string> {
+    if (e.lattice) return std::string(kLatticeIndexForVertex);
+    return std::nullopt;
+  });
 }
 
 }  // namespace ffd

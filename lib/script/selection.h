@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "script/script_checks.h"
 #include "script/script_values.h"
 #include "multires/octree_lattice.h"
 #include "warp/deformer.h"
@@ -31,6 +32,17 @@ std::vector<std::size_t> select_points(const Selection& selection, const Deforme
 /// [i, j, k], or by the centroids of the cells as shown (`near`: the cell nearest the
 /// point, which on a regular grid is the cell holding it). Cell indices, sorted.
 std::vector<std::size_t> select_octree_cells(const Selection& selection, const OctreeLattice& lattice, int level);
+/// What the script alone decides about a selection, checked before any work with the
+/// messages and places the run would give (the run still checks what only the mesh or the
+/// lattice decides: vertex counts, an octree's cut cells). Of control points of level
+/// `level` of a deformer of `shape`: each index's form and whether it may be movable, and
+/// no file. \throw InputError at the first fault.
+void check_point_selection(const Selection& selection, const DeformerShape& shape, int level);
+/// Of the cells of octree grid level `level` (2^level cells per axis): [i, j, k] in range, no file.
+void check_cell_selection(const Selection& selection, int level);
+/// Of mesh vertices: no lattice index.
+void check_vertex_selection(const Selection& selection);
+
 /// Reads a selection file: one non-negative vertex index per line, '#' comments.
 /// \throw InputError "file:line: ..." on anything else.
 std::vector<std::uint32_t> read_index_file(const std::string& path);

@@ -40,6 +40,12 @@ struct PointIndex {
   std::string text() const;
 };
 
+/// Why `index` cannot name a point of a deformer whose points are grid nodes [i, j, k]
+/// (`grid`) or numbered among its `noun` ("control points") when it has the other form:
+/// "expected a lattice index [i, j, k]"; nothing when the form is right. Deformers'
+/// missing_point and the script's checks before a run say the same.
+std::optional<std::string> index_form_problem(const PointIndex& index, bool grid, const std::string& noun);
+
 /// Control-point weights at one point of the input space: (point id, weight), ids ascending.
 using PointWeights = std::vector<std::pair<std::size_t, double>>;
 

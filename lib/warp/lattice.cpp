@@ -230,7 +230,7 @@ std::optional<std::size_t> Lattice::find_point(int, const PointIndex& index) con
 }
 
 std::string Lattice::missing_point(int, const PointIndex& index) const {
-  if (!index.grid) return "expected a lattice index [i, j, k]";
+  if (const std::optional<std::string> form = index_form_problem(index, true, "points")) return *form;
   return "point " + index.text() + " is not movable (movable: " + movable_range() + ")";
 }
 

@@ -52,7 +52,7 @@ std::optional<std::size_t> ScatteredDeformer::find_point(int, const PointIndex& 
 }
 
 std::string ScatteredDeformer::missing_point(int level, const PointIndex& index) const {
-  if (index.grid) return "expected the number of one of its " + noun_ + " (an integer), found " + index.text();
+  if (const std::optional<std::string> form = index_form_problem(index, false, noun_)) return *form;
   return "point " + index.text() + " is not one of its " + noun_ + " (" + movable_text(level) + ")";
 }
 
