@@ -13,9 +13,9 @@
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "common/numbers.h"
-#include "mesh/mesh_compare.h"
 #include "mesh/mesh_info.h"
 #include "mesh/mesh_io.h"
+#include "compare_command.h"
 #include "pictures.h"
 #include "script/runner.h"
 #include "script/schema.h"
@@ -27,48 +27,6 @@ namespace {
 int fail(int code, const std::string& message) {
   std::fprintf(stderr, "ffdtool: error: %s\n", message.c_str());
   return code;
-}
-
-int command_compare(const std::string& a_path, const std::string& b_path, double tolerance,
-                    const std::string& metric, bool as_json, const std::string& heatmap,
-                    const ffdcli::PictureArgs& picture) {
-  if (!heatmap.empty()) ffdcli::check_heatmap_path(heatmap);
-  const ffd::Mesh a = ffd::read_mesh(a_path);
-  const ffd::Mesh b = ffd::read_mesh(b_path);
-  ffd::MeshDifference d;
-  if (metric == "vertex") {
-    d = ffd::compare_vertices(a, b);
-  } else {
-    const ffd::MeshInfo info = ffd::mesh_info(a);
-    // The Hausdorff estimate's own error stays well below the tolerance asked for.
-    const double bound = tolerance > 0 ? tolerance / 10 : 1e-6 * info.diagonal;
-    d = ffd::compare_hausdorff(a, b, bound);
-  }
-  if (!heatmap.empty()) ffdcli::write_heatmap(heatmap, b, d, tolerance, picture);
-  const bool within = d.comparable && d.max <= tolerance && (metric != "vertex" || d.same_connectivity);
-  if (as_json) {
-    nlohmann::json j = {{"metric", d.metric}, {"comparable", d.comparable}, {"within_tolerance", within},
-                        {"tolerance", tolerance}, {"same_connectivity", d.same_connectivity}};
-    if (d.comparable) {
-      j["max"] = d.max;
-      j["mean"] = d.mean;
-      j["rms"] = d.rms;
-      if (metric == "vertex") j["worst_vertex"] = d.worst_vertex;
-    }
-    if (!d.reason.empty()) j["reason"] = d.reason;
-    std::cout << j.dump(2) << "\n";
-  } else {
-    if (!d.comparable) {
-      std::printf("not comparable: %s\n", d.reason.c_str());
-    } else {
-      std::printf("%s distance: max %.6g, mean %.6g, rms %.6g", d.metric.c_str(), d.max, d.mean, d.rms);
-      if (metric == "vertex") std::printf(" (worst: vertex %zu)", d.worst_vertex);
-      std::printf("\n");
-      if (metric == "vertex" && !d.same_connectivity) std::printf("connectivity differs: %s\n", d.reason.c_str());
-    }
-    std::printf("%s (tolerance %g)\n", within ? "same" : "different", tolerance);
-  }
-  return within ? 0 : 1;
 }
 
 // `info --json`: the mesh's facts as JSON (keys sorted, as nlohmann::json keeps them).
@@ -165,9 +123,7 @@ int command_validate(const std::string& path, bool resolved) {
 // Every subcommand's options, filled by CLI11.
 struct Commands {
   ffd::RunOptions run;
-  std::string a, b, metric = "vertex";
-  double tolerance = 1e-9;
-  bool compare_json = false;
+  ffdcli::CompareArgs compare;
   std::string info_path;
   bool info_json = false;
   std::string validate_path;
@@ -177,7 +133,6 @@ struct Commands {
   std::string shard, max_memory;
   std::string report_folder, report_junit;
   bool report_json = false;
-  std::string heatmap;
   ffdcli::PictureArgs picture;
   CLI::App *render_cmd = nullptr;
   CLI::App *run_cmd = nullptr, *compare_cmd = nullptr, *info_cmd = nullptr, *validate_cmd = nullptr,
@@ -264,22 +219,6 @@ void add_run(CLI::App& app, Commands& c) {
                "auto: the step in progress on a terminal's stderr (not with --quiet); json: NDJSON events on stderr; none");
 }
 
-void add_compare(CLI::App& app, Commands& c) {
-  c.compare_cmd = app.add_subcommand("compare", "Compare two meshes (exit 0 same, 1 different)");
-  c.compare_cmd->add_option("a", c.a, "First mesh")->required();
-  c.compare_cmd->add_option("b", c.b, "Second mesh")->required();
-  c.compare_cmd->add_option("--tolerance", c.tolerance, "Largest distance still 'same', in mesh units")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  c.compare_cmd->add_option("--metric", c.metric, "vertex: vertex i against vertex i; hausdorff: surfaces")
-      ->check(CLI::IsMember({"vertex", "hausdorff"}))
-      ->capture_default_str();
-  c.compare_cmd->add_flag("--json", c.compare_json, "Print the result as JSON");
-  c.compare_cmd->add_option("--heatmap", c.heatmap,
-                            "Also draw B coloured by its distance to A (grey within tolerance) to this PNG");
-  ffdcli::add_picture_options(c.compare_cmd, c.picture);
-}
-
 void add_script_commands(CLI::App& app, Commands& c) {
   c.info_cmd = app.add_subcommand("info", "Print counts and measures of a mesh");
   c.info_cmd->add_option("mesh", c.info_path, "Mesh file")->required();
@@ -299,7 +238,7 @@ int dispatch(Commands& c) {
     ffd::run_script(c.run);
     return 0;
   }
-  if (*c.compare_cmd) return command_compare(c.a, c.b, c.tolerance, c.metric, c.compare_json, c.heatmap, c.picture);
+  if (*c.compare_cmd) return ffdcli::command_compare(c.compare);
   if (*c.render_cmd) return ffdcli::command_render(c.picture);
   if (*c.info_cmd) return command_info(c.info_path, c.info_json);
   if (*c.validate_cmd) return command_validate(c.validate_path, c.resolved);
@@ -318,7 +257,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   Commands commands;
   add_run(app, commands);
-  add_compare(app, commands);
+  commands.compare_cmd = ffdcli::add_compare(app, commands.compare);
   add_script_commands(app, commands);
   add_batch(app, commands);
   commands.render_cmd = ffdcli::add_render(app, commands.picture);

@@ -1,16 +1,10 @@
 #include "mesh/mesh_compare.h"
 
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/Polygon_mesh_processing/distance.h>
-
 #include <cmath>
-
-#include "mesh/halfedge_view_cgal.h"
+#include <limits>
+#include <memory>
 
 namespace ffd {
-namespace PMP = CGAL::Polygon_mesh_processing;
 
 namespace {
 
@@ -54,45 +48,6 @@ MeshDifference compare_vertices(const Mesh& a, const Mesh& b) {
 
 namespace {
 
-// The polygons as a triangle soup (each polygon fanned from its first corner), every
-// triangle with vertices of its own: a valid Surface_mesh whatever the mesh's topology,
-// and the same surface, which is all a distance needs.
-SurfaceMesh triangle_soup(const Mesh& m) {
-  SurfaceMesh soup;
-  const MeshElements& el = m.elements();
-  const ConstVec3Array p = m.positions();
-  for (std::size_t e = 0; e < el.size(); ++e) {
-    if (el.kinds[e] != ElementKind::Polygon) continue;
-    const std::uint32_t* v = el.vertices(e);
-    for (std::uint32_t i = 1; i + 1 < el.degree(e); ++i) {
-      const VertexIndex a = soup.add_vertex(to_point(p.col(v[0])));
-      const VertexIndex b = soup.add_vertex(to_point(p.col(v[i])));
-      const VertexIndex c = soup.add_vertex(to_point(p.col(v[i + 1])));
-      soup.add_face(a, b, c);
-    }
-  }
-  return soup;
-}
-
-// The distance from every vertex of `from` that a polygon uses to the surface `to`;
-// NaN for the other vertices.
-std::vector<double> distances_to_surface(const Mesh& from, const SurfaceMesh& to) {
-  using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-  Tree tree(faces(to).first, faces(to).second, to);
-  tree.accelerate_distance_queries();
-  std::vector<char> used(from.num_vertices(), 0);
-  const MeshElements& el = from.elements();
-  for (std::size_t e = 0; e < el.size(); ++e)
-    if (el.kinds[e] == ElementKind::Polygon)
-      for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) used[el.corners[c]] = 1;
-  const ConstVec3Array p = from.positions();
-  std::vector<double> out(used.size(), std::nan(""));
-  for (std::size_t v = 0; v < used.size(); ++v)
-    if (used[v]) out[v] = std::sqrt(tree.squared_distance(to_point(p.col(static_cast<Eigen::Index>(v)))));
-  return out;
-}
-
 // Adds the distances that are known (not NaN) to the sums and the count.
 void add_distances(const std::vector<double>& distances, double& sum, double& sum2, std::size_t& n) {
   for (const double e : distances) {
@@ -103,33 +58,81 @@ void add_distances(const std::vector<double>& distances, double& sum, double& su
   }
 }
 
+// Both meshes' indexes, built at once (a tree build is sequential).
+std::pair<std::unique_ptr<SurfaceIndex>, std::unique_ptr<SurfaceIndex>> index_both(const Mesh& a, const Mesh& b) {
+  std::unique_ptr<SurfaceIndex> ia, ib;
+#pragma omp parallel sections num_threads(2)
+  {
+#pragma omp section
+    ia = std::make_unique<SurfaceIndex>(a);
+#pragma omp section
+    ib = std::make_unique<SurfaceIndex>(b);
+  }
+  return {std::move(ia), std::move(ib)};
+}
+
 }  // namespace
 
-MeshDifference compare_hausdorff(const Mesh& a, const Mesh& b, double error_bound) {
+MeshDifference compare_hausdorff(const Mesh& a, const Mesh& b, const HausdorffOptions& options) {
   MeshDifference d;
   d.metric = "hausdorff";
+  d.error_bound = options.error_bound;
   if (a.num_faces() == 0 || b.num_faces() == 0) {
     d.comparable = false;
     d.reason = "the Hausdorff metric needs faces on both meshes";
     return d;
   }
-  const SurfaceMesh ta = triangle_soup(a), tb = triangle_soup(b);
-  const double ab = PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(ta, tb, error_bound);
-  const double ba = PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(tb, ta, error_bound);
-  d.max = std::max(ab, ba);
+  const auto [ia, ib] = index_both(a, b);
+  const bool matched = a.num_vertices() == b.num_vertices();
+  const DirectedHausdorff ab = directed_hausdorff(*ia, *ib, options, matched);
+  DirectedHausdorff ba = directed_hausdorff(*ib, *ia, options, matched);
+  d.max = std::max(ab.lower, ba.lower);
+  d.max_upper = std::max(ab.upper, ba.upper);
+  d.larger = d.max > options.tolerance;
+  d.points = ab.points + ba.points;
   double sum = 0, sum2 = 0;
   std::size_t n = 0;
-  add_distances(distances_to_surface(a, tb), sum, sum2, n);
-  d.distances = distances_to_surface(b, ta);
-  add_distances(d.distances, sum, sum2, n);
+  add_distances(ab.vertex_distances, sum, sum2, n);
+  add_distances(ba.vertex_distances, sum, sum2, n);
+  d.distances = std::move(ba.vertex_distances);
   d.mean = n ? sum / n : 0;
   d.rms = n ? std::sqrt(sum2 / n) : 0;
   d.same_connectivity = same_elements(a, b);
   return d;
 }
 
+namespace {
+
+double bbox_diagonal(const Mesh& m) {
+  if (m.num_vertices() == 0) return 0;
+  const ConstVec3Array p = m.positions();
+  return (p.rowwise().maxCoeff() - p.rowwise().minCoeff()).norm();
+}
+
+}  // namespace
+
+MeshDifference compare_meshes(const Mesh& a, const Mesh& b, const CompareOptions& options) {
+  if (options.metric == "vertex") return compare_vertices(a, b);
+  HausdorffOptions h{options.tolerance, options.error_bound, options.threads};
+  if (!(h.error_bound > 0)) h.error_bound = options.tolerance > 0 ? options.tolerance / 10 : 1e-6 * bbox_diagonal(a);
+  // Below 1e-9 of the mesh's size the bounds are rounding, and the splits would not end.
+  h.error_bound = std::max(h.error_bound, 1e-9 * bbox_diagonal(a));
+  return compare_hausdorff(a, b, h);
+}
+
+bool within_tolerance(const MeshDifference& d, double tolerance) {
+  if (!d.comparable) return false;
+  if (d.metric == "vertex") return d.same_connectivity && d.max <= tolerance;
+  return !d.larger;
+}
+
 std::vector<double> vertex_distances(const Mesh& a, const Mesh& b, bool hausdorff) {
-  if (hausdorff) return a.num_faces() ? distances_to_surface(b, triangle_soup(a)) : std::vector<double>();
+  if (hausdorff) {
+    if (!a.num_faces() || !b.num_faces()) return {};
+    const SurfaceIndex ia(a), ib(b);
+    return directed_hausdorff(ib, ia, HausdorffOptions{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), 0}, false)
+        .vertex_distances;
+  }
   if (a.num_vertices() != b.num_vertices()) return {};
   std::vector<double> out(b.num_vertices());
   for (std::size_t v = 0; v < out.size(); ++v) {

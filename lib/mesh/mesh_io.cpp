@@ -4,7 +4,9 @@
 #include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <exception>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include <fcntl.h>
@@ -22,7 +24,9 @@
 
 namespace ffd {
 
-MeshFormat mesh_format(const std::filesystem::path& path) {
+namespace {
+
+std::optional<MeshFormat> format_of(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (ext == ".obj") return MeshFormat::Obj;
@@ -31,9 +35,18 @@ MeshFormat mesh_format(const std::filesystem::path& path) {
   if (ext == ".stl") return MeshFormat::Stl;
   if (ext == ".gltf") return MeshFormat::Gltf;
   if (ext == ".glb") return MeshFormat::Glb;
-  throw InputError(path.string() + ": unknown mesh format '" + ext +
+  return std::nullopt;
+}
+
+}  // namespace
+
+MeshFormat mesh_format(const std::filesystem::path& path) {
+  if (const std::optional<MeshFormat> format = format_of(path)) return *format;
+  throw InputError(path.string() + ": unknown mesh format '" + path.extension().string() +
                    "' (ffdtool reads and writes .obj, .off, .ply, .stl, .gltf, .glb)");
 }
+
+bool has_mesh_extension(const std::filesystem::path& path) { return format_of(path).has_value(); }
 
 namespace {
 
@@ -145,6 +158,29 @@ Mesh read_mesh(const std::string& path) {
   // Nothing to deform, and nothing a step could write back: not a mesh.
   if (soup.positions.empty()) throw InputError(At{path}, "the file has no vertex");
   return build_mesh(std::move(soup), path);
+}
+
+std::pair<Mesh, Mesh> read_mesh_pair(const std::string& a, const std::string& b) {
+  std::pair<Mesh, Mesh> out;
+  std::exception_ptr error[2];
+#pragma omp parallel sections num_threads(2)
+  {
+#pragma omp section
+    try {
+      out.first = read_mesh(a);
+    } catch (...) {
+      error[0] = std::current_exception();
+    }
+#pragma omp section
+    try {
+      out.second = read_mesh(b);
+    } catch (...) {
+      error[1] = std::current_exception();
+    }
+  }
+  for (const std::exception_ptr& e : error)
+    if (e) std::rethrow_exception(e);
+  return out;
 }
 
 void check_writable(const Mesh& mesh, MeshFormat format, const std::string& path) {

@@ -19,10 +19,14 @@ enum class MeshFormat { Obj, Off, Ply, Stl, Gltf, Glb };
 /// The format named by `path`'s extension (case-insensitive).
 /// \throw InputError for any other extension.
 MeshFormat mesh_format(const std::filesystem::path& path);
+/// Whether `path`'s extension names a mesh format.
+bool has_mesh_extension(const std::filesystem::path& path);
 
 /// Reads a mesh file into a Mesh, checked as build_mesh describes.
 /// \throw InputError naming the file and the place for anything unreadable.
 Mesh read_mesh(const std::string& path);
+/// Two meshes read at once, on two threads (`compare`); A's error first if both fail.
+std::pair<Mesh, Mesh> read_mesh_pair(const std::string& a, const std::string& b);
 
 /// How a write deforms what the mesh carries besides positions.
 struct WriteOptions {

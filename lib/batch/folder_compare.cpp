@@ -1,0 +1,117 @@
+#include "batch/folder_compare.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+
+#include "common/errors.h"
+#include "common/timer.h"
+#include "mesh/mesh_io.h"
+
+namespace ffd {
+namespace fs = std::filesystem;
+
+std::vector<std::string> mesh_files_under(const std::string& folder, bool recursive) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) throw InputError(At{folder}, "no such folder");
+  std::vector<std::string> out;
+  const auto add = [&](const fs::directory_entry& entry) {
+    if (entry.is_regular_file(ec) && has_mesh_extension(entry.path()))
+      out.push_back(fs::relative(entry.path(), folder, ec).generic_string());
+  };
+  if (recursive)
+    for (const auto& entry : fs::recursive_directory_iterator(folder, ec)) add(entry);
+  else
+    for (const auto& entry : fs::directory_iterator(folder, ec)) add(entry);
+  if (ec) throw InputError(At{folder}, "cannot list the folder: " + ec.message());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string difference_line(const MeshDifference& d, double tolerance) {
+  if (!d.comparable) return d.reason;
+  if (d.metric == "vertex" && !d.same_connectivity) return d.reason;
+  char line[160];
+  std::snprintf(line, sizeof line, "%s distance %.6g > tolerance %g", d.metric.c_str(), d.max, tolerance);
+  return line;
+}
+
+namespace {
+
+// The paths of both folders, each once, sorted; with which side has it.
+std::vector<PairResult> pair_paths(const std::string& a, const std::string& b, bool recursive) {
+  const std::vector<std::string> in_a = mesh_files_under(a, recursive), in_b = mesh_files_under(b, recursive);
+  std::set<std::string> all(in_a.begin(), in_a.end());
+  all.insert(in_b.begin(), in_b.end());
+  std::vector<PairResult> out;
+  for (const std::string& path : all) {
+    PairResult r;
+    r.path = path;
+    if (!std::binary_search(in_b.begin(), in_b.end(), path)) r.status = PairResult::Status::OnlyInA;
+    if (!std::binary_search(in_a.begin(), in_a.end(), path)) r.status = PairResult::Status::OnlyInB;
+    out.push_back(r);
+  }
+  return out;
+}
+
+// Reads and compares one pair; any error is the pair's.
+void compare_pair(const std::string& a, const std::string& b, const FolderCompareOptions& options, PairResult& r) {
+  Stopwatch clock;
+  try {
+    const auto [ma, mb] = read_mesh_pair((fs::path(a) / r.path).string(), (fs::path(b) / r.path).string());
+    r.difference = compare_meshes(ma, mb, options.compare);
+    const bool same = within_tolerance(r.difference, options.compare.tolerance);
+    r.status = same ? PairResult::Status::Same : PairResult::Status::Different;
+    if (!same) {
+      r.message = difference_line(r.difference, options.compare.tolerance);
+      if (options.on_different) options.on_different(r, mb);
+    }
+  } catch (const std::exception& e) {
+    r.status = PairResult::Status::Error;
+    r.message = e.what();
+  }
+  r.difference.distances = {};
+  r.difference.distances.shrink_to_fit();
+  r.ms = clock.ms();
+}
+
+void count(FolderComparison& c) {
+  c.worst = c.pairs.size();
+  for (std::size_t i = 0; i < c.pairs.size(); ++i) {
+    const PairResult& r = c.pairs[i];
+    switch (r.status) {
+      case PairResult::Status::Same: ++c.same; break;
+      case PairResult::Status::Different: ++c.different; break;
+      case PairResult::Status::OnlyInA: ++c.only_in_a; break;
+      case PairResult::Status::OnlyInB: ++c.only_in_b; break;
+      case PairResult::Status::Error: ++c.errors; break;
+    }
+    const bool measured = r.status == PairResult::Status::Same || r.status == PairResult::Status::Different;
+    if (measured && r.difference.comparable &&
+        (c.worst == c.pairs.size() || r.difference.max > c.pairs[c.worst].difference.max))
+      c.worst = i;
+  }
+}
+
+}  // namespace
+
+FolderComparison compare_folders(const std::string& a, const std::string& b, const FolderCompareOptions& options) {
+  FolderComparison c;
+  c.pairs = pair_paths(a, b, options.recursive);
+  const int jobs = options.jobs ? static_cast<int>(options.jobs) : omp_get_max_threads();
+  const auto n = static_cast<long long>(c.pairs.size());
+  // One pair per thread; a pair's own Hausdorff passes then run on that thread alone (no
+  // nested parallelism), unless one job takes all the cores.
+#pragma omp parallel for schedule(dynamic, 1) num_threads(jobs)
+  for (long long i = 0; i < n; ++i) {
+    PairResult& r = c.pairs[static_cast<std::size_t>(i)];
+    if (r.status == PairResult::Status::Same) compare_pair(a, b, options, r);
+  }
+  count(c);
+  return c;
+}
+
+}  // namespace ffd
