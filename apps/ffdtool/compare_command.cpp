@@ -1,6 +1,7 @@
 #include "compare_command.h"
 
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <iostream>
 
@@ -80,6 +81,8 @@ ffd::JUnitSuite junit_suite(const CompareArgs& c, double seconds) {
   ffd::JUnitSuite suite;
   suite.name = "ffdtool compare " + c.a + " " + c.b;
   suite.seconds = seconds;
+  suite.timestamp = ffd::junit_timestamp(std::time(nullptr));
+  suite.hostname = ffd::junit_hostname();
   return suite;
 }
 
@@ -192,10 +195,14 @@ std::function<void(const ffd::PairResult&, const ffd::Mesh&)> heatmap_writer(con
 int command_compare_folders(const CompareArgs& c) {
   if (!c.heatmap.empty())
     throw ffd::InputError("--heatmap draws one pair; for folders give --heatmap-dir DIR (a picture per differing pair)");
-  if (!c.heatmap_dir.empty()) ffd::require_output_folder((fs::path(c.heatmap_dir) / "x.png").string(), "--heatmap-dir");
+  std::error_code ec;
+  if (!c.heatmap_dir.empty() && fs::exists(c.heatmap_dir, ec) && !fs::is_directory(c.heatmap_dir, ec))
+    throw ffd::InputError(ffd::At{c.heatmap_dir}, "--heatmap-dir names a file, not a folder");
   ffd::Stopwatch clock;
   ffd::FolderCompareOptions options{c.compare, c.recursive, c.jobs, heatmap_writer(c)};
   const ffd::FolderComparison f = ffd::compare_folders(c.a, c.b, options);
+  for (const ffd::PairResult& r : f.pairs)  // a mesh that cannot be read: its error line, as elsewhere
+    if (r.status == Status::Error) std::fprintf(stderr, "ffdtool: error: %s\n", r.message.c_str());
   if (c.json)
     std::cout << folder_json(f, c).dump(2) << "\n";
   else
