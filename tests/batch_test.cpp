@@ -265,6 +265,7 @@ TEST(Batch, AJUnitFileThatCannotBeWrittenIsRefusedBeforeAnyWork) {
 
 // pig.off and pig.stl side by side (two different real meshes): each is named by its file
 // name, pig_off and pig_stl, and gives what a single run gives; --resume skips both.
+// With --format obj their outputs take the names too.
 TEST(Batch, InputsThatShareAStemAreNamedByTheirFileNames) {
   const std::string dir = mesh_folder("batch_stem", false);
   fs::create_directories(dir + "/pair");
@@ -296,6 +297,12 @@ TEST(Batch, InputsThatShareAStemAreNamedByTheirFileNames) {
   EXPECT_EQ(lines.size(), 3u);
   for (const json& line : lines) EXPECT_EQ(line["status"], "skipped") << line.dump();
   EXPECT_EQ(files_under(dir + "/out"), bytes);
+  // Without --format an output keeps its input's file name (their extensions keep them
+  // apart), so that `compare IN OUT` pairs them; the save folders are the names.
+  ASSERT_EQ(batch(quoted(dir + "/s.json") + " " + quoted(dir + "/pair") + " -o " + quoted(dir + "/kept"), &err), 0) << err;
+  EXPECT_EQ(test::files_in(dir + "/kept"),
+            (std::set<std::string>{"bunny.obj", "bunny", "pig.off", "pig_off", "pig.stl", "pig_stl", "results.jsonl"}));
+  EXPECT_TRUE(fs::exists(dir + "/kept/pig_off/mid/stretched.obj"));
 }
 
 // Names that still collide are refused before any work, naming both files.

@@ -104,8 +104,10 @@ std::vector<BatchItem> batch_items(const std::vector<std::string>& inputs, bool 
     item.index = i;
     item.input = files[i];
     item.name = names[i];
-    const std::string extension = format.empty() ? fs::path(item.input).extension().string() : "." + format;
-    item.output = (fs::path(output_folder) / (item.name + extension)).string();
+    // Without --format an output keeps its input's file name: pig.off and pig.stl stay
+    // apart by their extensions, and a folder compare pairs input and output.
+    item.output = (fs::path(output_folder) / (format.empty() ? fs::path(item.input).filename().string()
+                                                              : item.name + "." + format)).string();
     item.save_folder = (fs::path(output_folder) / item.name).string();
     if (fs::exists(item.output, ec) && fs::equivalent(item.output, item.input, ec))
       throw InputError(At{item.input}, "its output " + item.output + " would overwrite it");

@@ -14,7 +14,7 @@ struct BatchItem {
   std::size_t index = 0;    // position in the sorted list of all items
   std::string input;        // the mesh file, as found
   std::string name;         // its stem; "pig_off" for pig.off when another input is pig.stl
-  std::string output;       // OUTDIR/name.ext
+  std::string output;       // OUTDIR/FILE (the input's file name), or OUTDIR/name.FORMAT
   std::string save_folder;  // OUTDIR/name: the script's save paths are relative to it
 };
 
@@ -22,10 +22,10 @@ struct BatchItem {
 /// extension; with `recursive`, their subfolders' too) and @lists (one path a line, as
 /// written: relative to the working folder), sorted by path, leaving out files inside
 /// `output_folder` (a batch's own outputs, when it writes inside an input folder), each written to
-/// `output_folder`/name.ext (`format`: the extension, or "" to keep the input's). An item's
-/// name is its file's stem, unless another input has the same stem: then both are named
-/// by their file names with the extension's dot made '_' (pig.off and pig.stl are pig_off
-/// and pig_stl), so that their outputs and save folders stay apart.
+/// `output_folder`/FILE, its input's file name, or with a `format` to `output_folder`/name.FORMAT.
+/// An item's name is its file's stem, unless another input has the same stem: then both
+/// are named by their file names with the extension's dot made '_' (pig.off and pig.stl
+/// are pig_off and pig_stl), so that their save folders (and outputs of one format) stay apart.
 /// \throw InputError for a missing input, a file without a mesh extension, two inputs
 /// whose names are still the same (a/pig.off and b/pig.off; pig.off, pig.stl and
 /// pig_off.obj), an output that would overwrite an input, or no mesh at all.
