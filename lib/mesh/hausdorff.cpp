@@ -12,8 +12,7 @@ namespace {
 
 // Vertices and triangles are handed out in blocks of this many, whatever the thread
 // count: a search's hint is the previous vertex's answer within its block, so the blocks
-// must not depend on the threads for the results not to. Both go in the order of
-// `from`'s tree (spatial_vertex_order).
+// must not depend on the threads for the results not to.
 constexpr std::size_t kBlock = 256;
 // Splitting depth past which a sub-triangle's bounds are taken as they are (its diameter
 // is then 2^-32 of its triangle's; an error bound of 1e-9 of the meshes' size is reached
@@ -34,35 +33,19 @@ struct VertexPass {
   std::size_t points = 0;
 };
 
-// The vertices that triangles use, in the order of `from`'s triangles in its tree: nearby
-// vertices together, so that consecutive searches in `to`'s tree (the same region) stay
-// in cache and each starts from a close hint.
-std::vector<std::uint32_t> spatial_vertex_order(const SurfaceIndex& from) {
-  std::vector<char> seen(from.mesh().num_vertices(), 0);
-  std::vector<std::uint32_t> out;
-  out.reserve(seen.size());
-  for (const std::uint32_t t : from.spatial_order())
-    for (const std::uint32_t v : from.triangle(t))
-      if (!seen[v]) {
-        seen[v] = 1;
-        out.push_back(v);
-      }
-  return out;
-}
-
 VertexPass vertex_pass(const SurfaceIndex& from, const SurfaceIndex& to, bool matched, int threads) {
+  const std::size_t n = from.mesh().num_vertices();
   VertexPass out;
-  out.distance.assign(from.mesh().num_vertices(), std::nan(""));
-  out.closest.assign(from.mesh().num_vertices(), SurfaceIndex::kNone);
-  const std::vector<std::uint32_t> order = spatial_vertex_order(from);
-  const std::size_t n = order.size();
+  out.distance.assign(n, std::nan(""));
+  out.closest.assign(n, SurfaceIndex::kNone);
   const auto blocks = static_cast<long long>(blocks_of(n));
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads)
   for (long long b = 0; b < blocks; ++b) {
     std::uint32_t hint = SurfaceIndex::kNone;
     const std::size_t end = std::min(n, (static_cast<std::size_t>(b) + 1) * kBlock);
-    for (std::size_t i = static_cast<std::size_t>(b) * kBlock; i < end; ++i) {
-      const std::uint32_t vertex = order[i], v = vertex;
+    for (std::size_t v = static_cast<std::size_t>(b) * kBlock; v < end; ++v) {
+      const auto vertex = static_cast<std::uint32_t>(v);
+      if (from.triangle_of_vertex(vertex) == SurfaceIndex::kNone) continue;
       if (matched && to.triangle_of_vertex(vertex) != SurfaceIndex::kNone) hint = to.triangle_of_vertex(vertex);
       const SurfaceIndex::Closest c = to.closest(from.vertex(vertex), hint);
       out.distance[v] = std::sqrt(c.squared);
@@ -198,7 +181,7 @@ DirectedHausdorff directed_hausdorff(const SurfaceIndex& from, const SurfaceInde
   for (long long b = 0; b < blocks; ++b) {
     const std::size_t end = std::min(n, (static_cast<std::size_t>(b) + 1) * kBlock);
     for (std::size_t i = static_cast<std::size_t>(b) * kBlock; i < end; ++i) {
-      const std::uint32_t t = from.spatial_order()[i];
+      const auto t = static_cast<std::uint32_t>(i);
       Piece root;
       // Matched meshes of as many triangles: triangle t of `to` is likely t's image (a
       // deformed copy), the candidate that bounds it best.
