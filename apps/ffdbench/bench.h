@@ -50,6 +50,9 @@ Mesh subdivided(const Mesh& mesh, std::size_t min_vertices);
 /// them). The io and pictures suites' grid mesh.
 PolygonSoup height_field(int n);
 
+/// A UV sphere: `slices` around, `stacks` from pole to pole, outward triangles.
+PolygonSoup uv_sphere(int slices, int stacks, const Eigen::Vector3d& centre, double radius);
+
 /// The last non-empty line of a child's output (its error line).
 std::string last_line(const std::string& text);
 
@@ -90,5 +93,6 @@ void bench_pictures(Context& ctx);
 void bench_multires(Context& ctx);
 void bench_seam(Context& ctx);
 void bench_deformers(Context& ctx);
+void bench_compare(Context& ctx);
 
 }  // namespace ffd::bench

@@ -58,29 +58,6 @@ void write_control(const TempFolder& dir, std::size_t count) {
   write_points(dir.file("y" + std::to_string(count) + ".txt"), y);
 }
 
-/// A UV sphere: `slices` around, `stacks` from pole to pole, outward triangles.
-PolygonSoup uv_sphere(int slices, int stacks, const Eigen::Vector3d& centre, double radius) {
-  PolygonSoup soup;
-  soup.positions.push_back(centre + Eigen::Vector3d(0, 0, radius));
-  for (int i = 1; i < stacks; ++i)
-    for (int j = 0; j < slices; ++j) {
-      const double t = M_PI * i / stacks, p = 2 * M_PI * j / slices;
-      soup.positions.push_back(centre + radius * Eigen::Vector3d(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)));
-    }
-  soup.positions.push_back(centre - Eigen::Vector3d(0, 0, radius));
-  const auto ring = [&](int i, int j) { return static_cast<std::uint32_t>(1 + (i - 1) * slices + (j % slices)); };
-  const std::uint32_t south = static_cast<std::uint32_t>(soup.positions.size() - 1);
-  for (int j = 0; j < slices; ++j) {
-    soup.elements.add_polygon({0, ring(1, j), ring(1, j + 1)});
-    soup.elements.add_polygon({south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
-    for (int i = 1; i + 1 < stacks; ++i) {
-      soup.elements.add_polygon({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
-      soup.elements.add_polygon({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
-    }
-  }
-  return soup;
-}
-
 void write_binary(const std::string& path, PolygonSoup soup) {
   WriteOptions binary;
   binary.encoding = WriteOptions::Encoding::Binary;
@@ -138,8 +115,11 @@ json scattered_row(const std::string& ffdtool, const TempFolder& dir, const std:
 
 json rbf_rows(const std::string& ffdtool, const TempFolder& dir, bool quick) {
   const std::size_t small = quick ? 10000 : 100000, large = quick ? 100000 : 1000000;
-  write_binary(dir.file("small.ply"), PolygonSoup{random_points(small, 1)});
-  write_binary(dir.file("large.ply"), PolygonSoup{random_points(large, 2)});
+  PolygonSoup cloud;
+  cloud.positions = random_points(small, 1);
+  write_binary(dir.file("small.ply"), cloud);
+  cloud.positions = random_points(large, 2);
+  write_binary(dir.file("large.ply"), cloud);
   const std::size_t c1 = quick ? 200 : 1000, c5 = quick ? 1000 : 5000, c10 = quick ? 2000 : 10000;
   for (std::size_t c : {c1, c5, c10}) write_control(dir, c);
   const auto rbf = [](const char* kernel, double radius) {

@@ -103,4 +103,27 @@ TempFolder::~TempFolder() {
   std::filesystem::remove_all(path, ec);
 }
 
+// A UV sphere: `slices` around, `stacks` from pole to pole, outward triangles.
+PolygonSoup uv_sphere(int slices, int stacks, const Eigen::Vector3d& centre, double radius) {
+  PolygonSoup soup;
+  soup.positions.push_back(centre + Eigen::Vector3d(0, 0, radius));
+  for (int i = 1; i < stacks; ++i)
+    for (int j = 0; j < slices; ++j) {
+      const double t = M_PI * i / stacks, p = 2 * M_PI * j / slices;
+      soup.positions.push_back(centre + radius * Eigen::Vector3d(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)));
+    }
+  soup.positions.push_back(centre - Eigen::Vector3d(0, 0, radius));
+  const auto ring = [&](int i, int j) { return static_cast<std::uint32_t>(1 + (i - 1) * slices + (j % slices)); };
+  const std::uint32_t south = static_cast<std::uint32_t>(soup.positions.size() - 1);
+  for (int j = 0; j < slices; ++j) {
+    soup.elements.add_polygon({0, ring(1, j), ring(1, j + 1)});
+    soup.elements.add_polygon({south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
+    for (int i = 1; i + 1 < stacks; ++i) {
+      soup.elements.add_polygon({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
+      soup.elements.add_polygon({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
+    }
+  }
+  return soup;
+}
+
 }  // namespace ffd::bench

@@ -101,7 +101,10 @@ ChildRun run_measured(const std::vector<std::string>& argv, const std::string& f
   const int status = reap(pid, usage);
   ChildRun run;
   std::istringstream measured(slurp(result));
-  run.ok = exit_code(status) == 0 && static_cast<bool>(measured >> run.ms >> run.peak_bytes);
+  // Measured whatever the exit: compare exits 1 for a difference, batch for a failed mesh.
+  const bool measured_ok = static_cast<bool>(measured >> run.ms >> run.peak_bytes);
+  run.exit = exit_code(status);
+  run.ok = run.exit == 0 && measured_ok;
   run.out = slurp(out);
   run.err = slurp(err);
   return run;

@@ -15,11 +15,12 @@
 
 namespace ffd::bench {
 
-/// A finished child process: wall time from spawn to reaping, peak resident set, whether
-/// it exited with status 0, and its stdout and stderr.
+/// A finished child process: wall time from spawn to reaping, peak resident set, its exit
+/// code and whether it was 0, and its stdout and stderr.
 struct ChildRun {
   double ms = 0;
   std::size_t peak_bytes = 0;
+  int exit = 0;
   bool ok = false;
   std::string out, err;
 };

@@ -20,6 +20,9 @@ const std::vector<Suite>& suites() {
       {"deformers", "RBF (against PyGeM's sizes), IDW and mean-value cages: set-up and evaluation of `ffdtool run`, "
                     "a cage's pose against a B-spline move on the same mesh",
        bench_deformers},
+      {"compare", "the Hausdorff compare of 100k and 1M-vertex meshes against reading them and CGAL's "
+                  "approximate_Hausdorff_distance; a folder compare of CGAL's meshes against their FFD",
+       bench_compare},
   };
   return all;
 }
