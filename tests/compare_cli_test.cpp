@@ -39,6 +39,13 @@ std::string twin_folders(const std::string& name) {
   return dir;
 }
 
+// B/PATH becomes A/PATH after the lattice script.
+void deform_in_b(const std::string& dir, const std::string& path) {
+  ASSERT_EQ(run_tool("run " + quoted(dir + "/A/" + path) + " " + quoted(dir + "/ffd.json") + " -o " + quoted(dir + "/B/" + path) +
+                     " --quiet"),
+            0);
+}
+
 int compare(const std::string& dir, const std::string& options, std::string* out, std::string* err = nullptr) {
   return run_tool("compare " + quoted(dir + "/A") + " " + quoted(dir + "/B") + " " + options, out, err);
 }
@@ -54,9 +61,7 @@ TEST(CompareFolders, IdenticalFoldersAreTheSame) {
 
 TEST(CompareFolders, AChangedAMissingAndAnExtraFileAreNamedAndCounted) {
   const std::string dir = twin_folders("compare_diff");
-  ASSERT_EQ(run_tool("run " + quoted(dir + "/A/elephant.off") + " " + quoted(dir + "/ffd.json") + " -o " +
-                     quoted(dir + "/B/elephant.off") + " --quiet"),
-            0);
+  deform_in_b(dir, "elephant.off");
   fs::remove(dir + "/B/pig.off");
   fs::copy(test::data("bunny.obj"), dir + "/B/extra.obj");
   std::string out, err;
@@ -89,9 +94,7 @@ TEST(CompareFolders, AChangedAMissingAndAnExtraFileAreNamedAndCounted) {
 
 TEST(CompareFolders, JobsChangeNoByteOfTheOutput) {
   const std::string dir = twin_folders("compare_jobs");
-  ASSERT_EQ(run_tool("run " + quoted(dir + "/A/pig.off") + " " + quoted(dir + "/ffd.json") + " -o " +
-                     quoted(dir + "/B/pig.off") + " --quiet"),
-            0);
+  deform_in_b(dir, "pig.off");
   for (const char* format : {"", "--json"}) {
     std::string one, two;
     EXPECT_EQ(compare(dir, std::string("--metric hausdorff --tolerance 1e-5 --recursive --jobs 1 ") + format, &one), 1);
@@ -103,9 +106,7 @@ TEST(CompareFolders, JobsChangeNoByteOfTheOutput) {
 
 TEST(CompareFolders, HeatMapsOfTheDifferingPairsOnly) {
   const std::string dir = twin_folders("compare_heat");
-  ASSERT_EQ(run_tool("run " + quoted(dir + "/A/sub/grid.obj") + " " + quoted(dir + "/ffd.json") + " -o " +
-                     quoted(dir + "/B/sub/grid.obj") + " --quiet"),
-            0);
+  deform_in_b(dir, "sub/grid.obj");
   std::string out, err;
   ASSERT_EQ(compare(dir, "--recursive --tolerance 1e-6 --heatmap-dir " + quoted(dir + "/maps") + " --size 160x120", &out, &err),
             1)
@@ -123,9 +124,7 @@ std::array<std::string, 3> junit_counts(const std::string& path) {
 
 TEST(CompareFolders, JUnitReportsValidateAndCountWhatTheSummaryCounts) {
   const std::string dir = twin_folders("compare_junit");
-  ASSERT_EQ(run_tool("run " + quoted(dir + "/A/bunny.obj") + " " + quoted(dir + "/ffd.json") + " -o " +
-                     quoted(dir + "/B/bunny.obj") + " --quiet"),
-            0);
+  deform_in_b(dir, "bunny.obj");
   fs::remove(dir + "/B/sphere.ply");
   test::write_file(dir + "/A/broken.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");
   test::write_file(dir + "/B/broken.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");
