@@ -2,9 +2,9 @@
 // whole processes (wall and peak resident set), against reading the same two meshes in
 // this run and against CGAL's approximate_Hausdorff_distance with 1M samples a side.
 //
-// Pairs: UV spheres of 100k and 1M vertices against themselves after a B-spline FFD
-// (ffdtool run), the 100k sphere against the 1M one, and the armadillo refined by Loop
-// subdivision past 1M vertices against its FFD. Target: 1M vs 1M in at most 3x the time
+// Pairs (binary PLY): UV spheres of 100k and 1M vertices against themselves after a
+// B-spline FFD (ffdtool run), the 1M pair again as OBJ, the 100k sphere against the 1M
+// one, and the armadillo refined by Loop subdivision past 1M vertices against its FFD. Target: 1M vs 1M in at most 3x the time
 // to read both meshes, at most 400 bytes of peak memory per vertex of both.
 // With FFD_COMPARE_BEFORE=PATH (an older ffdtool), its compare runs the same pairs.
 //
@@ -64,9 +64,9 @@ json cgal_peer(const std::string& a, const std::string& b) {
 
 // One pair: reading both meshes here, then `compare` as a process (and the older one's).
 json pair_row(const std::string& ffdtool, const TempFolder& dir, const std::string& a, const std::string& b,
-              std::size_t vertices, double tolerance, int repeats) {
-  std::fprintf(stderr, "ffdbench: compare: %s vs %s\n", a.c_str(), b.c_str());
-  const std::string pa = dir.file(a + ".ply"), pb = dir.file(b + ".ply");
+              std::size_t vertices, double tolerance, int repeats, const std::string& format = "ply") {
+  std::fprintf(stderr, "ffdbench: compare: %s vs %s (%s)\n", a.c_str(), b.c_str(), format.c_str());
+  const std::string pa = dir.file(a + "." + format), pb = dir.file(b + "." + format);
   const double read_ms = median_ms(repeats, [&] {
     read_mesh(pa);
     read_mesh(pb);
@@ -82,7 +82,7 @@ json pair_row(const std::string& ffdtool, const TempFolder& dir, const std::stri
                 {"times_reading", run.ms / read_ms}, {"max", out["max"]}, {"max_upper", out.value("max_upper", json())},
                 {"within_tolerance", out["within_tolerance"]}};
   };
-  json row = {{"a", a}, {"b", b}, {"vertices_both", vertices}, {"tolerance", tolerance},
+  json row = {{"a", a}, {"b", b}, {"format", format}, {"vertices_both", vertices}, {"tolerance", tolerance},
               {"read_both_ms", read_ms}, {"compare", compare(ffdtool)}};
   if (const char* before = std::getenv("FFD_COMPARE_BEFORE")) row["before"] = compare(before);
   row["cgal"] = cgal_peer(pa, pb);
@@ -100,6 +100,10 @@ json pair_rows(const std::string& ffdtool, const TempFolder& dir, const Context&
   json rows = json::array();
   rows.push_back(pair_row(ffdtool, dir, "sphere_100k", "sphere_100k_ffd", 2 * small, 1e-3 * diagonal, ctx.repeats));
   rows.push_back(pair_row(ffdtool, dir, "sphere_1m", "sphere_1m_ffd", 2 * large, 1e-3 * diagonal, ctx.repeats));
+  // The same pair as OBJ text, which takes longer to read than binary PLY.
+  for (const char* name : {"sphere_1m", "sphere_1m_ffd"})
+    write_mesh(dir.file(std::string(name) + ".obj"), read_mesh(dir.file(std::string(name) + ".ply")));
+  rows.push_back(pair_row(ffdtool, dir, "sphere_1m", "sphere_1m_ffd", 2 * large, 1e-3 * diagonal, ctx.repeats, "obj"));
   rows.push_back(pair_row(ffdtool, dir, "sphere_100k", "sphere_1m", small + large, 1e-3 * diagonal, ctx.repeats));
   const ConstVec3Array p = armadillo.positions();
   const double armadillo_diagonal = (p.rowwise().maxCoeff() - p.rowwise().minCoeff()).norm();
@@ -139,7 +143,7 @@ void bench_compare(Context& ctx) {
   const TempFolder dir("compare");
   json pairs = pair_rows(ffdtool, dir, ctx);
   for (json& row : pairs)
-    if (row["a"] == "sphere_1m" && row["b"] == "sphere_1m_ffd")
+    if (row["a"] == "sphere_1m" && row["b"] == "sphere_1m_ffd")  // both formats
       row["target"] = {{"times_reading", 3}, {"bytes_per_vertex", 400},
                        {"met", row["compare"]["times_reading"].get<double>() <= 3 &&
                                    row["compare"]["bytes_per_vertex"].get<double>() <= 400}};

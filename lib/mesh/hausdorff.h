@@ -4,17 +4,21 @@
 // The bounds are those of CGAL's bounded-error algorithm (Tang et al. 2009, CGAL's
 // bounded_error_Hausdorff_distance): over a triangle T of A, d(·, B) is at least the
 // largest of its corners' distances (l) and, d(·, t) being convex for any triangle t of
-// B, at most min over t of max over T's corners of d(corner, t) (u). A triangle whose
-// bounds differ by more than the error is split in four; one that cannot hold a point
-// farther than the farthest found is dropped. The candidates t are the triangles closest
-// to the sub-triangle's corners (and its parent's best), which makes u - l at most the
-// sub-triangle's diameter, so the splitting ends.
+// B, at most min over t of max over T's corners of d(corner, t) (u); also at most l plus
+// the farthest a point of T lies from its nearest corner (d(·, B) is 1-Lipschitz). The
+// candidates t are the triangles closest to T's corners, T's parent's best and, for a
+// mesh and its deformed copy, T's own image, which usually settles T at once.
 //
-// Unlike CGAL's, one pass gives both the decision (exact: where tolerance lies between a
-// triangle's bounds, it is split on until they fall on one side, down to a floor of
-// 1e-9 of the meshes' size) and the distance within its bound; one AABB tree per mesh
-// serves both directions and the per-vertex distances; the passes run in parallel over
-// fixed blocks of vertices and triangles, so the results do not depend on the thread count.
+// A triangle that cannot hold a point farther than the farthest found is dropped; one
+// whose u exceeds that by more than the error bound is split in four. So is one that
+// could still hold the first point found beyond the tolerance (l <= tolerance < u) until
+// u - l <= error / 2: a distance over tolerance + error / 2 is always found, one at or
+// under tolerance never claimed. Splitting ends: u - l is at most a piece's diameter.
+//
+// Unlike CGAL's, one pass gives both the decision and the distance within its bound; one
+// AABB tree per mesh serves both directions and the per-vertex distances; the passes run
+// in parallel over fixed blocks of vertices and triangles, so the results do not depend
+// on the thread count.
 #pragma once
 
 #include <cstddef>
@@ -33,8 +37,7 @@ struct HausdorffOptions {
 /// From the surface of `from` to the surface of `to`: sup over points p of from of d(p, to).
 struct DirectedHausdorff {
   double lower = 0;  // a distance reached: some point of `from` is this far from `to`
-  double upper = 0;  // no point of `from` is farther (upper - lower <= the error bound, but
-                     // for sub-triangles that reached the splitting depth limit)
+  double upper = 0;  // no point of `from` is farther (upper - lower <= the error bound)
   /// Each vertex of `from`'s distance to `to` (NaN for a vertex no polygon uses).
   std::vector<double> vertex_distances;
   std::size_t points = 0;           // points measured: the vertices and the splits' midpoints
