@@ -1,7 +1,7 @@
 // The batch's results log: one JSON line per item (results.jsonl, or
 // results-I-of-N.jsonl for a shard), appended as items finish, and read back by
-// --resume and `ffdtool report`. It lives with the runner's stats, whose steps it holds:
-// lib/script is the layer that speaks JSON; lib/batch only runs items.
+// --resume, `ffdtool report` and `report --junit`. A record is JSON because it holds
+// the items' stats steps as lib/script's runner wrote them.
 #pragma once
 
 #include <cstdio>
