@@ -34,7 +34,7 @@ SurfaceMesh triangle_soup(const Mesh& m) {
   const SurfaceIndex index(m);
   for (std::uint32_t t = 0; t < index.num_triangles(); ++t) {
     std::array<VertexIndex, 3> v;
-    for (int i = 0; i < 3; ++i) v[i] = soup.add_vertex(to_point(index.vertex(index.triangle(t)[i])));
+    for (int i = 0; i < 3; ++i) v[i] = soup.add_vertex(to_point(index.point(index.triangle(t)[i])));
     soup.add_face(v[0], v[1], v[2]);
   }
   return soup;
@@ -125,13 +125,13 @@ double brute_force_directed(const Mesh& from, const Mesh& to, int samples) {
   const SurfaceIndex f(from), t(to);
   std::vector<Eigen::AlignedBox3d> boxes(t.num_triangles());
   for (std::uint32_t b = 0; b < t.num_triangles(); ++b)
-    for (const std::uint32_t v : t.triangle(b)) boxes[b].extend(t.vertex(v));
+    for (const std::uint32_t v : t.triangle(b)) boxes[b].extend(t.point(v));
   double worst = 0;
   for (std::uint32_t a = 0; a < f.num_triangles(); ++a)
     for (int i = 0; i <= samples; ++i)
       for (int j = 0; i + j <= samples; ++j) {
-        const Eigen::Vector3d q = (i * f.vertex(f.triangle(a)[0]) + j * f.vertex(f.triangle(a)[1]) +
-                                   (samples - i - j) * f.vertex(f.triangle(a)[2])) / samples;
+        const Eigen::Vector3d q = (i * f.point(f.triangle(a)[0]) + j * f.point(f.triangle(a)[1]) +
+                                   (samples - i - j) * f.point(f.triangle(a)[2])) / samples;
         double best = std::numeric_limits<double>::infinity();
         for (std::uint32_t b = 0; b < t.num_triangles(); ++b)
           if (boxes[b].squaredExteriorDistance(q) < best) best = std::min(best, t.squared_distance(q, b));
@@ -147,7 +147,7 @@ Mesh split_and_deformed(const Mesh& mesh) {
   PolygonSoup soup;
   for (std::uint32_t t = 0; t < index.num_triangles(); ++t) {
     std::array<Eigen::Vector3d, 3> c;
-    for (int i = 0; i < 3; ++i) c[i] = index.vertex(index.triangle(t)[i]);
+    for (int i = 0; i < 3; ++i) c[i] = index.point(index.triangle(t)[i]);
     const auto base = static_cast<std::uint32_t>(soup.positions.size());
     for (const Eigen::Vector3d& q : {c[0], c[1], c[2], Eigen::Vector3d((c[0] + c[1]) / 2)}) soup.positions.push_back(q);
     soup.elements.add_polygon({base, base + 3, base + 2});

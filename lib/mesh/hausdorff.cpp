@@ -25,7 +25,7 @@ int thread_count(const HausdorffOptions& options) {
 
 std::size_t blocks_of(std::size_t n) { return (n + kBlock - 1) / kBlock; }
 
-// Every vertex's distance to `to` and its closest triangle there.
+// Every point's (every vertex a triangle uses) distance to `to` and its closest triangle there.
 struct VertexPass {
   std::vector<double> distance;
   std::vector<std::uint32_t> closest;
@@ -34,29 +34,35 @@ struct VertexPass {
 };
 
 VertexPass vertex_pass(const SurfaceIndex& from, const SurfaceIndex& to, bool matched, int threads) {
-  const std::size_t n = from.mesh().num_vertices();
+  const std::size_t n = from.num_points();
   VertexPass out;
-  out.distance.assign(n, std::nan(""));
+  out.distance.assign(n, 0);
   out.closest.assign(n, SurfaceIndex::kNone);
   const auto blocks = static_cast<long long>(blocks_of(n));
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads)
   for (long long b = 0; b < blocks; ++b) {
     std::uint32_t hint = SurfaceIndex::kNone;
     const std::size_t end = std::min(n, (static_cast<std::size_t>(b) + 1) * kBlock);
-    for (std::size_t v = static_cast<std::size_t>(b) * kBlock; v < end; ++v) {
-      const auto vertex = static_cast<std::uint32_t>(v);
-      if (from.triangle_of_vertex(vertex) == SurfaceIndex::kNone) continue;
-      if (matched && to.triangle_of_vertex(vertex) != SurfaceIndex::kNone) hint = to.triangle_of_vertex(vertex);
-      const SurfaceIndex::Closest c = to.closest(from.vertex(vertex), hint);
-      out.distance[v] = std::sqrt(c.squared);
-      out.closest[v] = hint = c.triangle;
+    for (std::size_t i = static_cast<std::size_t>(b) * kBlock; i < end; ++i) {
+      const auto point = static_cast<std::uint32_t>(i);
+      if (matched) {
+        const std::uint32_t image = to.point_of_vertex(from.mesh_vertex(point));
+        if (image != SurfaceIndex::kNone) hint = to.triangle_of_point(image);
+      }
+      const SurfaceIndex::Closest c = to.closest(from.point(point), hint);
+      out.distance[i] = std::sqrt(c.squared);
+      out.closest[i] = hint = c.triangle;
     }
   }
-  for (const double d : out.distance)
-    if (!std::isnan(d)) {
-      out.max = std::max(out.max, d);
-      ++out.points;
-    }
+  for (const double d : out.distance) out.max = std::max(out.max, d);
+  out.points = n;
+  return out;
+}
+
+// The points' distances by mesh vertex (NaN for a vertex no polygon uses).
+std::vector<double> by_mesh_vertex(const SurfaceIndex& index, const std::vector<double>& distance) {
+  std::vector<double> out(index.num_mesh_vertices(), std::nan(""));
+  for (std::uint32_t p = 0; p < distance.size(); ++p) out[index.mesh_vertex(p)] = distance[p];
   return out;
 }
 
@@ -183,11 +189,11 @@ DirectedHausdorff directed_hausdorff(const SurfaceIndex& from, const SurfaceInde
     for (std::size_t i = static_cast<std::size_t>(b) * kBlock; i < end; ++i) {
       const auto t = static_cast<std::uint32_t>(i);
       Piece root;
-      // Matched meshes of as many triangles: triangle t of `to` is likely t's image (a
-      // deformed copy), the candidate that bounds it best.
-      if (same_triangles) root.parent_best = t;
+      // Matched meshes of as many triangles: the triangle of `to` in t's place among the
+      // fanned polygons is likely t's image (a deformed copy), the candidate that bounds it best.
+      if (same_triangles) root.parent_best = to.triangle_at_fan_index(from.fan_index(t));
       const std::array<std::uint32_t, 3>& v = from.triangle(t);
-      for (int i = 0; i < 3; ++i) root.corner[i] = {from.vertex(v[i]), vertices.distance[v[i]], vertices.closest[v[i]]};
+      for (int k = 0; k < 3; ++k) root.corner[k] = {from.point(v[k]), vertices.distance[v[k]], vertices.closest[v[k]]};
       const TriangleResult r = refine(root, to, limits);
       lower = std::max(lower, r.lower);
       upper = std::max(upper, r.upper);
@@ -198,7 +204,7 @@ DirectedHausdorff directed_hausdorff(const SurfaceIndex& from, const SurfaceInde
   DirectedHausdorff out;
   out.lower = lower;
   out.upper = std::max(lower, upper);
-  out.vertex_distances = std::move(vertices.distance);
+  out.vertex_distances = by_mesh_vertex(from, vertices.distance);
   out.points = points;
   out.split_triangles = splits;
   return out;

@@ -1,6 +1,13 @@
 // A mesh's surface for closest-point queries: its polygons as triangles (each fanned from
 // its first corner) in CGAL's AABB tree. `compare` builds one per mesh and shares it
 // between the Hausdorff distance and the per-vertex distances (mesh/hausdorff.h).
+//
+// The triangles are numbered along a Morton curve through their centroids, and the
+// points (the vertices they use) as the triangles first use them: whatever order the
+// file has, a pass in that order visits nearby places one after another, so the tree's
+// build and a run of searches stay in cache (a 1.7M-vertex mesh whose file scatters its
+// triangles took 10 s to compare in file order, 5.8 s in this one). mesh_vertex() and
+// fan_index() give the mesh's numbers back.
 #pragma once
 
 #include <array>
@@ -26,14 +33,24 @@ public:
   SurfaceIndex(const SurfaceIndex&) = delete;
   SurfaceIndex& operator=(const SurfaceIndex&) = delete;
 
-  const Mesh& mesh() const { return mesh_; }
+  /// The mesh's vertex count (used by a triangle or not).
+  std::size_t num_mesh_vertices() const { return point_of_vertex_.size(); }
+  /// The points: the vertices the triangles use, in the index's order.
+  std::size_t num_points() const { return mesh_vertex_.size(); }
+  Eigen::Vector3d point(std::uint32_t p) const { return positions_.col(mesh_vertex_[p]); }
+  /// The mesh vertex point p is, and the point mesh vertex v is (kNone when no polygon uses it).
+  std::uint32_t mesh_vertex(std::uint32_t p) const { return mesh_vertex_[p]; }
+  std::uint32_t point_of_vertex(std::uint32_t v) const { return point_of_vertex_[v]; }
+  /// A triangle that has point p as a corner.
+  std::uint32_t triangle_of_point(std::uint32_t p) const { return point_triangle_[p]; }
+
   std::size_t num_triangles() const { return triangles_.size(); }
-  /// The vertex ids of triangle t.
+  /// Triangle t's corners (points).
   const std::array<std::uint32_t, 3>& triangle(std::uint32_t t) const { return triangles_[t]; }
-  /// Vertex v's position.
-  Eigen::Vector3d vertex(std::uint32_t v) const { return mesh_.positions().col(v); }
-  /// A triangle that uses vertex v, or kNone when no polygon does.
-  std::uint32_t triangle_of_vertex(std::uint32_t v) const { return vertex_triangle_[v]; }
+  /// Triangle t's place among the mesh's fanned polygons (polygon by polygon, fan by fan),
+  /// and the triangle at place f.
+  std::uint32_t fan_index(std::uint32_t t) const { return fan_index_[t]; }
+  std::uint32_t triangle_at_fan_index(std::uint32_t f) const { return triangle_at_fan_[f]; }
 
   /// The squared distance from p to triangle t.
   double squared_distance(const Eigen::Vector3d& p, std::uint32_t t) const;
@@ -48,9 +65,14 @@ public:
   Closest closest(const Eigen::Vector3d& p, std::uint32_t hint = kNone) const;
 
 private:
-  const Mesh& mesh_;
+  // Numbers the points and triangles (mesh_vertex_, triangles_ and the maps); the
+  // temporaries are freed on return, before the tree is built.
+  void number_in_morton_order(const Mesh& mesh);
+
+  ConstVec3Array positions_;
+  std::vector<std::uint32_t> mesh_vertex_, point_of_vertex_, point_triangle_;
   std::vector<std::array<std::uint32_t, 3>> triangles_;
-  std::vector<std::uint32_t> vertex_triangle_;
+  std::vector<std::uint32_t> fan_index_, triangle_at_fan_;
   struct Tree;
   std::unique_ptr<Tree> tree_;
 };
