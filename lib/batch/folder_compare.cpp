@@ -78,6 +78,24 @@ void compare_pair(const std::string& a, const std::string& b, const FolderCompar
   r.ms = clock.ms();
 }
 
+// The pairs by the bytes of their two files, largest first (ties by path): handed out in
+// that order, the long pairs start first and the short ones fill in after, instead of a
+// long pair late in path order running alone at the end.
+std::vector<std::size_t> largest_first(const std::string& a, const std::string& b, const std::vector<PairResult>& pairs) {
+  std::vector<std::uintmax_t> bytes(pairs.size(), 0);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    std::error_code ec;
+    for (const std::string& side : {a, b}) {
+      const std::uintmax_t size = fs::file_size(fs::path(side) / pairs[i].path, ec);
+      if (!ec) bytes[i] += size;
+    }
+  }
+  std::vector<std::size_t> order(pairs.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return bytes[x] > bytes[y]; });
+  return order;
+}
+
 void count(FolderComparison& c) {
   c.worst = c.pairs.size();
   for (std::size_t i = 0; i < c.pairs.size(); ++i) {
@@ -102,14 +120,19 @@ FolderComparison compare_folders(const std::string& a, const std::string& b, con
   FolderComparison c;
   c.pairs = pair_paths(a, b, options.recursive);
   const int jobs = options.jobs ? static_cast<int>(options.jobs) : omp_get_max_threads();
-  const auto n = static_cast<long long>(c.pairs.size());
-  // One pair per thread; a pair's own Hausdorff passes then run on that thread alone (no
-  // nested parallelism), unless one job takes all the cores.
+  const std::vector<std::size_t> order = largest_first(a, b, c.pairs);
+  const auto n = static_cast<long long>(order.size());
+  // One pair per thread, and a pair's own passes on every core too (nested): when one
+  // long pair is left, it does not run alone on one core. The results do not depend on
+  // the threads.
+  const int levels = omp_get_max_active_levels();
+  omp_set_max_active_levels(2);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(jobs)
   for (long long i = 0; i < n; ++i) {
-    PairResult& r = c.pairs[static_cast<std::size_t>(i)];
+    PairResult& r = c.pairs[order[static_cast<std::size_t>(i)]];
     if (r.status == PairResult::Status::Same) compare_pair(a, b, options, r);
   }
+  omp_set_max_active_levels(levels);
   count(c);
   return c;
 }

@@ -115,17 +115,18 @@ Bounds piece_bounds(const Piece& s, const SurfaceIndex& to) {
 
 // What a piece's bounds are measured against.
 struct Limits {
-  double reached = 0;    // a distance already reached (the vertices'): pieces below it are dropped
+  double reached = 0;    // a distance already reached: pieces below it are dropped
   double tolerance = 0;
   double error = 0;
+  bool decide = false;   // split pieces that could hold the first point beyond the tolerance
 };
 
 // Whether a piece needs no split: it cannot raise the distance found by more than the
-// error, nor hold the first point found beyond the tolerance but within half the error
-// of its own bounds (so a distance over tolerance + error / 2 is always found), or it is
-// as small as it gets.
+// error, nor (when deciding) hold the first point found beyond the tolerance but within
+// half the error of its own bounds (so a distance over tolerance + error / 2 is always
+// found), or it is as small as it gets.
 bool settled(const Bounds& b, const Piece& s, double known, const Limits& limits) {
-  const bool open = known <= limits.tolerance && b.upper > limits.tolerance;
+  const bool open = limits.decide && known <= limits.tolerance && b.upper > limits.tolerance;
   if (s.depth >= kMaxDepth) return true;
   return open ? b.upper - b.lower <= limits.error / 2 : b.upper <= known + limits.error;
 }
@@ -171,18 +172,15 @@ TriangleResult refine(const Piece& root, const SurfaceIndex& to, const Limits& l
   return r;
 }
 
-}  // namespace
-
-DirectedHausdorff directed_hausdorff(const SurfaceIndex& from, const SurfaceIndex& to, const HausdorffOptions& options,
-                                     bool matched) {
-  const int threads = thread_count(options);
-  VertexPass vertices = vertex_pass(from, to, matched, threads);
-  const Limits limits{vertices.max, options.tolerance, options.error_bound};
+// Bounds of every triangle of `from`; the largest lower and upper bounds, the points
+// measured and the triangles split.
+TriangleResult triangle_pass(const SurfaceIndex& from, const SurfaceIndex& to, const VertexPass& vertices,
+                             const Limits& limits, bool matched, int threads) {
   const std::size_t n = from.num_triangles();
   const bool same_triangles = matched && n == to.num_triangles();
   const auto blocks = static_cast<long long>(blocks_of(n));
-  double lower = vertices.max, upper = vertices.max;
-  std::size_t points = vertices.points, splits = 0;
+  double lower = limits.reached, upper = limits.reached;
+  std::size_t points = 0, splits = 0;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads) reduction(max : lower, upper) reduction(+ : points, splits)
   for (long long b = 0; b < blocks; ++b) {
     const std::size_t end = std::min(n, (static_cast<std::size_t>(b) + 1) * kBlock);
@@ -201,12 +199,33 @@ DirectedHausdorff directed_hausdorff(const SurfaceIndex& from, const SurfaceInde
       splits += r.splits;
     }
   }
+  return {lower, std::max(lower, upper), points, splits};
+}
+
+}  // namespace
+
+DirectedHausdorff directed_hausdorff(const SurfaceIndex& from, const SurfaceIndex& to, const HausdorffOptions& options,
+                                     bool matched, double reached) {
+  const int threads = thread_count(options);
+  VertexPass vertices = vertex_pass(from, to, matched, threads);
+  // First the distance within the error bound; then, only if the tolerance lies between
+  // its bounds, the pieces that could hold a point beyond it, each measured against the
+  // farthest point the first pass found anywhere (so that a triangle need not find it
+  // again on its own). Each pass is deterministic, so both are.
+  Limits limits{std::max(reached, vertices.max), options.tolerance, options.error_bound, false};
+  TriangleResult r = triangle_pass(from, to, vertices, limits, matched, threads);
+  if (r.lower <= options.tolerance && r.upper > options.tolerance) {
+    limits = {r.lower, options.tolerance, options.error_bound, true};
+    const TriangleResult decided = triangle_pass(from, to, vertices, limits, matched, threads);
+    r = {std::max(r.lower, decided.lower), std::min(r.upper, decided.upper), r.points + decided.points,
+         r.splits + decided.splits};
+  }
   DirectedHausdorff out;
-  out.lower = lower;
-  out.upper = std::max(lower, upper);
+  out.lower = r.lower;
+  out.upper = std::max(r.lower, r.upper);
   out.vertex_distances = by_mesh_vertex(from, vertices.distance);
-  out.points = points;
-  out.split_triangles = splits;
+  out.points = vertices.points + r.points;
+  out.split_triangles = r.splits;
   return out;
 }
 

@@ -10,10 +10,11 @@
 // mesh and its deformed copy, T's own image, which usually settles T at once.
 //
 // A triangle that cannot hold a point farther than the farthest found is dropped; one
-// whose u exceeds that by more than the error bound is split in four. So is one that
-// could still hold the first point found beyond the tolerance (l <= tolerance < u) until
-// u - l <= error / 2: a distance over tolerance + error / 2 is always found, one at or
-// under tolerance never claimed. Splitting ends: u - l is at most a piece's diameter.
+// whose u exceeds that by more than the error bound is split in four. When the tolerance
+// still lies between the bounds this gives, a second pass splits the pieces that could
+// hold the first point beyond it (l <= tolerance < u) until u - l <= error / 2: a
+// distance over tolerance + error / 2 is always found, one at or under tolerance never
+// claimed. Splitting ends: u - l is at most a piece's diameter.
 //
 // Unlike CGAL's, one pass gives both the decision and the distance within its bound; one
 // AABB tree per mesh serves both directions and the per-vertex distances; the passes run
@@ -49,7 +50,10 @@ struct DirectedHausdorff {
 /// deformed copy): the search for vertex i starts at a triangle of vertex i, which is
 /// faster (the distances are the same; where two triangles are equally close, which one
 /// a split starts from may differ, within the error bound).
+/// `reached`: a distance already reached elsewhere (the other direction's), which spares
+/// the search of pieces that cannot exceed it; lower and upper then bound
+/// max(reached, the one-sided distance).
 DirectedHausdorff directed_hausdorff(const SurfaceIndex& from, const SurfaceIndex& to, const HausdorffOptions& options,
-                                     bool matched);
+                                     bool matched, double reached = 0);
 
 }  // namespace ffd

@@ -85,7 +85,7 @@ MeshDifference compare_hausdorff(const Mesh& a, const Mesh& b, const HausdorffOp
   const auto [ia, ib] = index_both(a, b);
   const bool matched = a.num_vertices() == b.num_vertices();
   const DirectedHausdorff ab = directed_hausdorff(*ia, *ib, options, matched);
-  DirectedHausdorff ba = directed_hausdorff(*ib, *ia, options, matched);
+  DirectedHausdorff ba = directed_hausdorff(*ib, *ia, options, matched, ab.lower);
   d.max = std::max(ab.lower, ba.lower);
   d.max_upper = std::max(ab.upper, ba.upper);
   d.larger = d.max > options.tolerance;
