@@ -91,13 +91,9 @@ ffd::JUnitCase junit_case(const ffd::PairResult& r) {
   t.name = r.path;
   t.classname = "ffdtool.compare";
   t.seconds = r.ms / 1000;
-  switch (r.status) {
-    case Status::Same: break;
-    case Status::Different: t.outcome = ffd::JUnitCase::Outcome::Failed; break;
-    case Status::OnlyInA:
-    case Status::OnlyInB: t.outcome = ffd::JUnitCase::Outcome::Failed; break;
-    case Status::Error: t.outcome = ffd::JUnitCase::Outcome::Error; break;
-  }
+  t.outcome = r.status == Status::Same    ? ffd::JUnitCase::Outcome::Passed
+              : r.status == Status::Error ? ffd::JUnitCase::Outcome::Error
+                                          : ffd::JUnitCase::Outcome::Failed;  // different, or on one side only
   t.message = r.status == Status::OnlyInA ? "only in A (missing from B)"
               : r.status == Status::OnlyInB ? "only in B (missing from A)"
                                             : r.message;

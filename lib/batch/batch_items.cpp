@@ -15,28 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool has_mesh_extension(const fs::path& path) {
-  try {
-    mesh_format(path);
-    return true;
-  } catch (const InputError&) {
-    return false;
-  }
-}
-
-// The mesh files of a folder (and its subfolders with `recursive`).
-void folder_meshes(const fs::path& folder, bool recursive, std::vector<std::string>& out) {
-  std::error_code ec;
-  const auto add = [&](const fs::directory_entry& entry) {
-    if (entry.is_regular_file(ec) && has_mesh_extension(entry.path())) out.push_back(entry.path().string());
-  };
-  if (recursive)
-    for (const auto& entry : fs::recursive_directory_iterator(folder, ec)) add(entry);
-  else
-    for (const auto& entry : fs::directory_iterator(folder, ec)) add(entry);
-  if (ec) throw InputError(At{folder.string()}, "cannot list the folder: " + ec.message());
-}
-
 // One INPUT argument's mesh files.
 void expand_input(const std::string& input, bool recursive, std::vector<std::string>& out) {
   if (!input.empty() && input[0] == '@') {
@@ -53,7 +31,10 @@ void expand_input(const std::string& input, bool recursive, std::vector<std::str
     return;
   }
   std::error_code ec;
-  if (fs::is_directory(input, ec)) return folder_meshes(input, recursive, out);
+  if (fs::is_directory(input, ec)) {
+    for (const std::string& file : mesh_files_under(input, recursive)) out.push_back((fs::path(input) / file).string());
+    return;
+  }
   if (!fs::is_regular_file(input, ec)) throw InputError(At{input}, "no such file or folder");
   out.push_back(input);
 }
@@ -81,6 +62,23 @@ std::vector<std::string> item_names(const std::vector<std::string>& files) {
 }
 
 }  // namespace
+
+std::vector<std::string> mesh_files_under(const std::string& folder, bool recursive) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) throw InputError(At{folder}, "no such folder");
+  std::vector<std::string> out;
+  const auto add = [&](const fs::directory_entry& entry) {
+    if (entry.is_regular_file(ec) && has_mesh_extension(entry.path()))
+      out.push_back(fs::relative(entry.path(), folder, ec).generic_string());
+  };
+  if (recursive)
+    for (const auto& entry : fs::recursive_directory_iterator(folder, ec)) add(entry);
+  else
+    for (const auto& entry : fs::directory_iterator(folder, ec)) add(entry);
+  if (ec) throw InputError(At{folder}, "cannot list the folder: " + ec.message());
+  std::sort(out.begin(), out.end());
+  return out;
+}
 
 std::vector<BatchItem> batch_items(const std::vector<std::string>& inputs, bool recursive,
                                    const std::string& output_folder, const std::string& format) {

@@ -32,6 +32,11 @@ struct BatchItem {
 std::vector<BatchItem> batch_items(const std::vector<std::string>& inputs, bool recursive,
                                    const std::string& output_folder, const std::string& format);
 
+/// The mesh files (by extension) under `folder`, with `recursive` its subfolders' too:
+/// paths relative to it, '/'-separated, sorted. \throw InputError if it is not a folder
+/// or cannot be listed.
+std::vector<std::string> mesh_files_under(const std::string& folder, bool recursive);
+
 /// Shard `index` of `count`: the items whose index ≡ index (mod count).
 struct Shard {
   std::size_t index = 0, count = 1;

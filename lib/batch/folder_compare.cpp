@@ -7,29 +7,13 @@
 #include <filesystem>
 #include <set>
 
+#include "batch/batch_items.h"
 #include "common/errors.h"
 #include "common/timer.h"
 #include "mesh/mesh_io.h"
 
 namespace ffd {
 namespace fs = std::filesystem;
-
-std::vector<std::string> mesh_files_under(const std::string& folder, bool recursive) {
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec)) throw InputError(At{folder}, "no such folder");
-  std::vector<std::string> out;
-  const auto add = [&](const fs::directory_entry& entry) {
-    if (entry.is_regular_file(ec) && has_mesh_extension(entry.path()))
-      out.push_back(fs::relative(entry.path(), folder, ec).generic_string());
-  };
-  if (recursive)
-    for (const auto& entry : fs::recursive_directory_iterator(folder, ec)) add(entry);
-  else
-    for (const auto& entry : fs::directory_iterator(folder, ec)) add(entry);
-  if (ec) throw InputError(At{folder}, "cannot list the folder: " + ec.message());
-  std::sort(out.begin(), out.end());
-  return out;
-}
 
 std::string difference_line(const MeshDifference& d, double tolerance) {
   if (!d.comparable) return d.reason;

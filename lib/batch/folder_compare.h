@@ -37,10 +37,6 @@ struct FolderComparison {
   std::size_t worst = 0;          // the pair with the largest distance (pairs.size(): none)
 };
 
-/// The mesh files (by extension, as batch takes them) under `folder`, relative paths sorted.
-/// \throw InputError if it is not a folder or cannot be listed.
-std::vector<std::string> mesh_files_under(const std::string& folder, bool recursive);
-
 /// Compares the folders' meshes pair by pair. The result does not depend on `jobs`.
 /// \throw InputError if either is not a folder.
 FolderComparison compare_folders(const std::string& a, const std::string& b, const FolderCompareOptions& options);
