@@ -72,9 +72,9 @@ std::size_t read_some(int fd, char* buf, std::size_t size, const std::string& pa
 
 FileBytes read_bytes(const std::string& path) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(At{path}, "no such file");
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw InputError(path + ": cannot open for reading: " + std::strerror(errno));
+  if (fd < 0) throw InputError(At{path}, std::string("cannot open for reading: ") + std::strerror(errno));
   struct stat st {};
   std::size_t capacity = ::fstat(fd, &st) == 0 && st.st_size > 0 ? static_cast<std::size_t>(st.st_size) : 0;
   FileBytes bytes;

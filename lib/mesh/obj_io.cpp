@@ -18,11 +18,11 @@ std::int64_t resolve_index(std::string_view token, std::size_t count, const std:
                            std::size_t line, const char* what) {
   long long raw;
   if (!parse_integer(token, raw) || raw == 0)
-    throw InputError(place(file, line) + ": " + what + " index '" + std::string(token) +
+    throw InputError(At{place(file, line)}, std::string(what) + " index '" + std::string(token) +
                      "' is not a non-zero integer");
   const long long resolved = raw > 0 ? raw - 1 : static_cast<long long>(count) + raw;
   if (resolved < 0 || resolved >= static_cast<long long>(count))
-    throw InputError(place(file, line) + ": " + what + " index " + std::string(token) +
+    throw InputError(At{place(file, line)}, std::string(what) + " index " + std::string(token) +
                      " is out of range (" + std::to_string(count) + " defined so far)");
   return resolved;
 }
@@ -42,12 +42,12 @@ std::string rest_of_line(std::string_view line, std::string_view keyword) {
 void read_vertex(const std::vector<std::string_view>& tokens, const std::string& file, std::size_t n,
                  PolygonSoup& soup, bool& any_color) {
   if (tokens.size() != 4 && tokens.size() != 5 && tokens.size() != 7)
-    throw InputError(place(file, n) + ": expected 'v x y z' (or with w, or with r g b), found " +
+    throw InputError(At{place(file, n)}, "expected 'v x y z' (or with w, or with r g b), found " +
                      std::to_string(tokens.size() - 1) + " values");
   Eigen::Vector3d p;
   for (int i = 0; i < 3; ++i) p[i] = number_or_throw(tokens[1 + i], file, n, "coordinate");
   if (tokens.size() == 5 && number_or_throw(tokens[4], file, n, "weight") != 1.0)
-    throw InputError(place(file, n) + ": rational vertices (w != 1) are not supported");
+    throw InputError(At{place(file, n)}, "rational vertices (w != 1) are not supported");
   Eigen::Vector3f c(0.8f, 0.8f, 0.8f);
   if (tokens.size() == 7) {
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(number_or_throw(tokens[4 + i], file, n, "colour"));
@@ -64,7 +64,7 @@ void read_vertex(const std::vector<std::string_view>& tokens, const std::string&
 void read_texture_coordinate(const std::vector<std::string_view>& tokens, const std::string& file, std::size_t n,
                              PolygonSoup& soup) {
   if (tokens.size() < 2 || tokens.size() > 4)
-    throw InputError(place(file, n) + ": expected 'vt u [v [w]]'");
+    throw InputError(At{place(file, n)}, "expected 'vt u [v [w]]'");
   Eigen::Vector2d t(number_or_throw(tokens[1], file, n, "texture coordinate"), 0.0);
   if (tokens.size() >= 3) t[1] = number_or_throw(tokens[2], file, n, "texture coordinate");
   if (tokens.size() == 4) number_or_throw(tokens[3], file, n, "texture coordinate");
@@ -74,7 +74,7 @@ void read_texture_coordinate(const std::vector<std::string_view>& tokens, const 
 // Appends `vn x y z` on line n to `soup`.
 void read_normal(const std::vector<std::string_view>& tokens, const std::string& file, std::size_t n,
                  PolygonSoup& soup) {
-  if (tokens.size() != 4) throw InputError(place(file, n) + ": expected 'vn x y z'");
+  if (tokens.size() != 4) throw InputError(At{place(file, n)}, "expected 'vn x y z'");
   Eigen::Vector3d v;
   for (int i = 0; i < 3; ++i) v[i] = number_or_throw(tokens[1 + i], file, n, "normal component");
   soup.normals.push_back(v);
@@ -97,8 +97,7 @@ void read_element(const std::vector<std::string_view>& tokens, ElementKind kind,
                   const std::string& file, std::size_t n, PolygonSoup& soup) {
   const std::size_t least = kind == ElementKind::Polygon ? 3 : kind == ElementKind::Line ? 2 : 1;
   if (tokens.size() < least + 1)
-    throw InputError(place(file, n) + ": " +
-                     (kind == ElementKind::Polygon ? "a face" : kind == ElementKind::Line ? "a line" : "a point element") +
+    throw InputError(At{place(file, n)}, std::string(kind == ElementKind::Polygon ? "a face" : kind == ElementKind::Line ? "a line" : "a point element") +
                      " needs at least " + std::to_string(least) + " vertices, found " + std::to_string(tokens.size() - 1));
   for (std::size_t i = 1; i < tokens.size(); ++i) {
     std::string_view vtok, ttok, ntok;
@@ -247,7 +246,7 @@ PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool 
     } else if (key == "mtllib") {
       soup.header.push_back("mtllib " + rest_of_line(line, key));
     } else {
-      throw InputError(place(file, n) + ": unsupported OBJ statement '" + std::string(key) + "'");
+      throw InputError(At{place(file, n)}, "unsupported OBJ statement '" + std::string(key) + "'");
     }
   }
   return soup;

@@ -62,13 +62,13 @@ std::vector<std::string_view> read_header(LineScanner& lines, const std::string&
         have_keyword = true;
         first = 1;
       } else if (t[0].find("OFF") != std::string_view::npos) {
-        throw InputError(place(file, lines.number()) + ": unsupported OFF variant '" +
+        throw InputError(At{place(file, lines.number())}, "unsupported OFF variant '" +
                          std::string(t[0]) + "' (read: OFF, COFF, NOFF, CNOFF, STOFF)");
       }
       // A file without the keyword starts directly with the counts (allowed by the format).
     }
     if (first < t.size() && t[first] == "BINARY")
-      throw InputError(place(file, lines.number()) + ": binary OFF is not supported");
+      throw InputError(At{place(file, lines.number())}, "binary OFF is not supported");
     counts.assign(t.begin() + first, t.end());
   }
   return counts;
@@ -78,9 +78,9 @@ std::vector<std::string_view> read_header(LineScanner& lines, const std::string&
 void parse_counts(const std::vector<std::string_view>& counts, const std::string& file, std::size_t line,
                   long long& nv, long long& nf) {
   if (counts.size() != 3 && counts.size() != 2)
-    throw InputError(file + ":" + std::to_string(line) + ": expected the counts 'vertices faces edges'");
+    throw InputError(At{file + ":" + std::to_string(line)}, "expected the counts 'vertices faces edges'");
   if (!parse_integer(counts[0], nv) || !parse_integer(counts[1], nf) || nv < 0 || nf < 0)
-    throw InputError(place(file, line) + ": the vertex and face counts must be non-negative integers");
+    throw InputError(At{place(file, line)}, "the vertex and face counts must be non-negative integers");
 }
 
 // Appends the vertex on line n (tokens t) to `soup`: a position, then as the header says
@@ -93,7 +93,7 @@ void read_vertex(const std::vector<std::string_view>& t, const OffHeader& header
   const bool has_color = header.color && extra >= 3 + st;
   if (t.size() < want + st || (header.color && !has_color) ||
       (!header.color && extra != st) || (header.color && extra - st > 4))
-    throw InputError(place(file, n) + ": expected " + std::to_string(want + st) +
+    throw InputError(At{place(file, n)}, "expected " + std::to_string(want + st) +
                      (header.color ? " values and a colour" : " values") + " for vertex " +
                      std::to_string(soup.positions.size()) + ", found " + std::to_string(t.size()));
   Eigen::Vector3d p;
@@ -128,19 +128,19 @@ void read_face(const std::vector<std::string_view>& t, const OffHeader& header, 
                const std::string& file, std::size_t n, PolygonSoup& soup, std::vector<std::uint32_t>& corners) {
   long long k;
   if (!parse_integer(t[0], k) || k < 3)
-    throw InputError(place(file, n) + ": a face starts with its vertex count (3 or more), found '" +
+    throw InputError(At{place(file, n)}, "a face starts with its vertex count (3 or more), found '" +
                      std::string(t[0]) + "'");
   if (static_cast<long long>(t.size()) - 1 < k)  // not k + 1: k may be LLONG_MAX
-    throw InputError(place(file, n) + ": the face lists " + std::to_string(t.size() - 1) + " of its " +
+    throw InputError(At{place(file, n)}, "the face lists " + std::to_string(t.size() - 1) + " of its " +
                      std::to_string(k) + " vertices");
   const std::size_t trailing = t.size() - 1 - k;  // optional face colour
   if (trailing != 0 && trailing != 1 && trailing != 3 && trailing != 4)
-    throw InputError(place(file, n) + ": unexpected values after the face's vertex indices");
+    throw InputError(At{place(file, n)}, "unexpected values after the face's vertex indices");
   corners.clear();
   for (long long i = 0; i < k; ++i) {
     long long idx;
     if (!parse_integer(t[1 + i], idx) || idx < 0 || idx >= nv)
-      throw InputError(place(file, n) + ": vertex index '" + std::string(t[1 + i]) +
+      throw InputError(At{place(file, n)}, "vertex index '" + std::string(t[1 + i]) +
                        "' is out of range (0.." + std::to_string(nv - 1) + ")");
     corners.push_back(static_cast<std::uint32_t>(idx));
   }
@@ -190,7 +190,7 @@ bool next_tokens(LineScanner& lines, std::vector<std::string_view>& t) {
 // The error for a file that ends after `read` of the `promised` vertices or faces.
 InputError ends_early(const std::string& file, std::size_t counts_line, std::size_t read, long long promised,
                       const char* what) {
-  return InputError(place(file, counts_line) + ": the file ends after " + std::to_string(read) + " of the " +
+  return InputError(At{place(file, counts_line)}, "the file ends after " + std::to_string(read) + " of the " +
                     std::to_string(promised) + " " + what + " this line promises");
 }
 
@@ -206,7 +206,7 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
   // Never trust a header: a vertex line takes at least 6 bytes ("0 0 0\n"), a face line 2.
   const long long bytes = static_cast<long long>(text.size());
   if (nv > bytes / 6 + 1 || nf > bytes / 2 + 1)
-    throw InputError(place(file, counts_line) + ": the counts promise " + std::to_string(nv) + " vertices and " +
+    throw InputError(At{place(file, counts_line)}, "the counts promise " + std::to_string(nv) + " vertices and " +
                      std::to_string(nf) + " faces, more than the file's " + std::to_string(bytes) + " bytes can hold");
 
   soup.positions.reserve(nv);
@@ -227,7 +227,7 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
     split_tokens(line, t);
     if (!t.empty()) read_face(t, header, nv, file, lines.number(), soup, corners);
   }
-  if (next_tokens(lines, t)) throw InputError(place(file, lines.number()) + ": unexpected data after the last face");
+  if (next_tokens(lines, t)) throw InputError(At{place(file, lines.number())}, "unexpected data after the last face");
   return soup;
 }
 

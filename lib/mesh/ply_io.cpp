@@ -152,14 +152,14 @@ void parse_property(const std::vector<std::string_view>& t, const std::string& a
 
 // The header up to end_header's line; elements and properties as declared.
 Header read_header(std::string_view bytes, const std::string& file) {
-  if (bytes.empty()) throw InputError(file + ": the file is empty (a PLY file starts with 'ply')");
+  if (bytes.empty()) throw InputError(At{file}, "the file is empty (a PLY file starts with 'ply')");
   Header h;
   bool have_format = false;
   std::size_t pos = 0;
   std::vector<std::string_view> t;
   for (;;) {
     if (pos >= bytes.size())
-      throw InputError(file + ": the header ends without 'end_header' (after line " + std::to_string(h.lines) + ")");
+      throw InputError(At{file}, "the header ends without 'end_header' (after line " + std::to_string(h.lines) + ")");
     std::size_t end = std::min(bytes.find('\n', pos), bytes.size());
     std::string_view line = bytes.substr(pos, end - pos);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
@@ -350,7 +350,7 @@ VertexLayout vertex_layout(Element& e, const std::string& file) {
     if (slot == kNone || layout.has[slot]) continue;  // a second uv name is skipped
     if (p.list) {
       if (slot <= kZ)
-        throw InputError(place(file, p.line) + ": the vertex property " + p.name + " must be a scalar, not a list");
+        throw InputError(At{place(file, p.line)}, "the vertex property " + p.name + " must be a scalar, not a list");
       continue;
     }
     p.slot = slot;
@@ -359,7 +359,7 @@ VertexLayout vertex_layout(Element& e, const std::string& file) {
   }
   for (int s = kX; s <= kZ; ++s)
     if (!layout.has[s])
-      throw InputError(place(file, e.line) + ": the vertex element has no property " +
+      throw InputError(At{place(file, e.line)}, "the vertex element has no property " +
                        std::string(s == kX ? "x" : s == kY ? "y" : "z"));
   // A partial normal, colour or texture coordinate is skipped as unknown.
   for (Property& p : e.properties) {
@@ -375,11 +375,11 @@ void face_layout(Element& e, const std::string& file) {
   for (Property& p : e.properties)
     if (p.name == "vertex_indices" || p.name == "vertex_index") {
       if (!p.list || !is_integer(p.type))
-        throw InputError(place(file, p.line) + ": " + p.name + " must be a list of integers");
+        throw InputError(At{place(file, p.line)}, p.name + " must be a list of integers");
       p.indices = true;
       return;
     }
-  throw InputError(place(file, e.line) + ": the face element has no list vertex_indices");
+  throw InputError(At{place(file, e.line)}, "the face element has no list vertex_indices");
 }
 
 const char* const kSlotNames[] = {"x", "y", "z", "nx", "ny", "nz", "red", "green", "blue", "u", "v"};
@@ -456,7 +456,7 @@ PolygonSoup read_ply(std::string_view bytes, const std::string& file) {
     if (e.name == "vertex") vertex = &e;
     if (e.name == "face") face_layout(e, file);
   }
-  if (!vertex || vertex->count == 0) throw InputError(file + ": the file has no vertex");
+  if (!vertex || vertex->count == 0) throw InputError(At{file}, "the file has no vertex");
   const VertexLayout layout = vertex_layout(*vertex, file);
   PolygonSoup soup;
   soup.binary = h.format != Format::Ascii;
@@ -464,7 +464,7 @@ PolygonSoup read_ply(std::string_view bytes, const std::string& file) {
   for (const Element& e : h.elements) {
     const std::size_t min = e.min_bytes(h.format);
     if (min > 0 && e.count > (cur.left() + (cur.ascii() ? 1 : 0)) / min)
-      throw InputError(place(file, e.line) + ": element " + e.name + " promises " + std::to_string(e.count) +
+      throw InputError(At{place(file, e.line)}, "element " + e.name + " promises " + std::to_string(e.count) +
                        " items, but only " + std::to_string(cur.left()) + " bytes are left and each needs at least " +
                        std::to_string(min));
     if (&e == vertex) {

@@ -98,7 +98,7 @@ PolygonSoup read_binary(std::string_view bytes, const std::string& file) {
       Eigen::Vector3d p;
       for (int k = 0; k < 3; ++k) p[k] = little_float(tri + 12 * c + 4 * k);
       if (!p.allFinite())
-        throw InputError(file + ": triangle " + std::to_string(t) + ": corner " + std::to_string(c) +
+        throw InputError(At{file}, "triangle " + std::to_string(t) + ": corner " + std::to_string(c) +
                          " has a non-finite coordinate (" + format_number(p[0]) + " " + format_number(p[1]) + " " +
                          format_number(p[2]) + ")");
       soup.elements.add_corner(merger.add(p));
@@ -127,7 +127,7 @@ public:
   void skip_line() {
     while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
   }
-  [[noreturn]] void fail(const std::string& what) const { throw InputError(place(file_, line_) + ": " + what); }
+  [[noreturn]] void fail(const std::string& what) const { throw InputError(At{place(file_, line_)}, what); }
   void expect(std::string_view word) {
     const std::string_view w = next();
     if (w.empty()) fail("the file ends where '" + std::string(word) + "' was expected");
@@ -210,17 +210,17 @@ bool looks_binary(std::string_view bytes) {
 }  // namespace
 
 PolygonSoup read_stl(std::string_view bytes, const std::string& file) {
-  if (bytes.empty()) throw InputError(file + ": the file is empty");
+  if (bytes.empty()) throw InputError(At{file}, "the file is empty");
   const bool fits_binary =
       bytes.size() >= kHeaderBytes &&
       kHeaderBytes + std::uint64_t(little_uint32(bytes.data() + 80)) * kTriangleBytes == bytes.size();
   const auto size_error = [&] {
     if (bytes.size() < kHeaderBytes)
-      return InputError(file + ": " + std::to_string(bytes.size()) +
+      return InputError(At{file}, std::to_string(bytes.size()) +
                         " bytes, too short for a binary STL (84 bytes of header and triangle count) and not "
                         "ASCII STL ('solid' ...)");
     const std::uint64_t count = little_uint32(bytes.data() + 80);
-    return InputError(file + ": binary STL: the header's count of " + std::to_string(count) + " triangles needs " +
+    return InputError(At{file}, "binary STL: the header's count of " + std::to_string(count) + " triangles needs " +
                       std::to_string(kHeaderBytes + count * kTriangleBytes) +
                       " bytes (84 + 50 per triangle), the file has " + std::to_string(bytes.size()));
   };
@@ -239,7 +239,7 @@ PolygonSoup read_stl(std::string_view bytes, const std::string& file) {
     if (!fits_binary) throw size_error();
     soup = read_binary(bytes, file);
   }
-  if (soup.positions.empty()) throw InputError(file + ": the file has no vertex (no triangle)");
+  if (soup.positions.empty()) throw InputError(At{file}, "the file has no vertex (no triangle)");
   return soup;
 }
 

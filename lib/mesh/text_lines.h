@@ -100,7 +100,7 @@ inline double number_or_throw(std::string_view token, const std::string& file, s
                               const char* what) {
   double value;
   if (!parse_finite(token, value))
-    throw InputError(place(file, line) + ": " + what + " '" + std::string(token) +
+    throw InputError(At{place(file, line)}, std::string(what) + " '" + std::string(token) +
                      "' is not a finite number");
   return value;
 }
