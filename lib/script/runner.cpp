@@ -34,6 +34,21 @@ bool same_file(const fs::path& a, const fs::path& b) {
   return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
 }
 
+// The files the steps will write, checked before any work: an existing folder, never the
+// input mesh or the script.
+void check_step_outputs(const Script& script, const std::string& output_folder, const std::string& mesh) {
+  for (const auto& step : script.steps)
+    for (const OutputFile& file : step->outputs()) {
+      const fs::path target = fs::path(output_folder) / file.path;
+      const std::string where = script.path + ": " + step->pointer;
+      std::error_code ec;
+      if (!fs::is_directory(target.parent_path().empty() ? "." : target.parent_path(), ec))
+        throw InputError(At{where}, "the folder of '" + target.string() + "' does not exist");
+      if ((!mesh.empty() && same_file(target, mesh)) || same_file(target, script.path))
+        throw InputError(At{where}, "'" + target.string() + "' would overwrite an input file");
+    }
+}
+
 // Every path the run will write, checked before any work: known format, existing folder,
 // never the input mesh (unless it is the named output) or the script.
 void check_outputs(const RunOptions& options, const Script& script, const std::string& output_folder) {
@@ -53,16 +68,7 @@ void check_outputs(const RunOptions& options, const Script& script, const std::s
     for (const std::string& input : {options.mesh, options.script})
       if (same_file(options.preview, input)) throw InputError(At{options.preview}, "the preview would overwrite an input");
   }
-  for (const auto& step : script.steps)
-    for (const OutputFile& file : step->outputs()) {
-      const fs::path target = fs::path(output_folder) / file.path;
-      const std::string where = script.path + ": " + step->pointer;
-      std::error_code ec;
-      if (!fs::is_directory(target.parent_path().empty() ? "." : target.parent_path(), ec))
-        throw InputError(At{where}, "the folder of '" + target.string() + "' does not exist");
-      if (same_file(target, options.mesh) || same_file(target, options.script))
-        throw InputError(At{where}, "'" + target.string() + "' would overwrite an input file");
-    }
+  check_step_outputs(script, output_folder, options.mesh);
 }
 
 // Passes on the glTF reader's notes (skinned, morph-targeted meshes) as warnings;
@@ -85,19 +91,32 @@ void warn_if_gltf_flattened(const RunOptions& options, Scene& scene, bool from_g
   if (!options.quiet) std::fprintf(stderr, "  warning: %s\n", scene.warnings.back().c_str());
 }
 
-// The stats' header: tool, build, threads and the input.
-nlohmann::ordered_json input_stats(const RunOptions& options, const Mesh& mesh, double read_ms) {
+// The stats' header: tool, build, threads and the input (`mesh`: its file, or null).
+nlohmann::ordered_json input_stats(nlohmann::ordered_json mesh_file, const std::string& script, const Mesh& mesh,
+                                   double read_ms) {
   nlohmann::ordered_json stats;
   stats["tool"] = "ffdtool";
   stats["version"] = FFD_VERSION;
   stats["build"] = FFD_BUILD_FLAGS;
   stats["threads"] = omp_get_max_threads();
-  stats["input"] = {{"mesh", options.mesh},
-                    {"script", options.script},
+  stats["input"] = {{"mesh", std::move(mesh_file)},
+                    {"script", script},
                     {"vertices", mesh.num_vertices()},
                     {"faces", mesh.num_faces()},
                     {"read_ms", read_ms}};
   return stats;
+}
+
+// The stats' tail: the output (`mesh`: its file, or null), the totals, warnings and memory.
+void output_stats(nlohmann::ordered_json& stats, nlohmann::ordered_json mesh_file, const Scene& scene,
+                  double write_ms, double total_ms) {
+  double steps_ms = 0;
+  for (const auto& s : stats["steps"]) steps_ms += s["ms"].get<double>();
+  stats["output"] = {{"mesh", std::move(mesh_file)}, {"vertices", scene.mesh.num_vertices()},
+                     {"faces", scene.mesh.num_faces()}, {"write_ms", write_ms}};
+  stats["totals"] = {{"steps_ms", steps_ms}, {"ms", total_ms}};
+  stats["warnings"] = scene.warnings;
+  stats["peak_memory_bytes"] = peak_memory_bytes();
 }
 
 // Runs every step in order, reporting to a progress reporter of `options.progress`;
@@ -165,7 +184,7 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
   Stopwatch read_clock;
   scene.mesh = read_mesh(options.mesh);
   check_writable(scene.mesh, mesh_format(options.output), options.output);  // before any work
-  nlohmann::ordered_json stats = input_stats(options, scene.mesh, read_clock.ms());
+  nlohmann::ordered_json stats = input_stats(options.mesh, options.script, scene.mesh, read_clock.ms());
 #ifndef NDEBUG
   scene.warnings.push_back("this ffdtool is not an optimized build: expect it to be many times slower");
 #endif
@@ -180,14 +199,7 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
   Stopwatch write_clock;
   stage_mesh_at(scene, options.output, scene.write_options());
   if (!options.preview.empty()) stage_preview(scene, options.preview);
-  const double write_ms = write_clock.ms();
-  double steps_ms = 0;
-  for (const auto& s : stats["steps"]) steps_ms += s["ms"].get<double>();
-  stats["output"] = {{"mesh", options.output}, {"vertices", scene.mesh.num_vertices()},
-                     {"faces", scene.mesh.num_faces()}, {"write_ms", write_ms}};
-  stats["totals"] = {{"steps_ms", steps_ms}, {"ms", total.ms()}};
-  stats["warnings"] = scene.warnings;
-  stats["peak_memory_bytes"] = peak_memory_bytes();
+  output_stats(stats, options.output, scene, write_clock.ms(), total.ms());
   if (!options.stats.empty()) stage_stats(options.stats, stats, scene);
   // Each file goes in place in one step, but the files one after another: a run killed
   // in this loop leaves the ones before it in place, whole, and none of the rest.
@@ -195,7 +207,28 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
   if (!options.quiet)
     std::fprintf(stderr, "ffdtool: wrote %s: %s vertices, %s faces; steps %s, total %s\n", options.output.c_str(),
                  format_count(scene.mesh.num_vertices()).c_str(), format_count(scene.mesh.num_faces()).c_str(),
-                 format_ms(steps_ms).c_str(), format_ms(total.ms()).c_str());
+                 format_ms(stats["totals"]["steps_ms"].get<double>()).c_str(), format_ms(total.ms()).c_str());
+  return stats;
+}
+
+nlohmann::ordered_json run_in_memory(const Script& script, Scene& scene, const MemoryRunOptions& options) {
+  Stopwatch total;
+  if (scene.output_folder.empty()) scene.output_folder = ".";
+  check_step_outputs(script, scene.output_folder, options.mesh);
+  nlohmann::ordered_json mesh_file;  // null: a mesh made from arrays
+  if (!options.mesh.empty()) mesh_file = options.mesh;
+  nlohmann::ordered_json stats = input_stats(mesh_file, script.path, scene.mesh, options.read_ms);
+#ifndef NDEBUG
+  scene.warnings.push_back("this ffdtool is not an optimized build: expect it to be many times slower");
+#endif
+  RunOptions step_options;
+  step_options.mesh = options.mesh.empty() ? "mesh" : options.mesh;
+  step_options.quiet = options.quiet;
+  gltf_notes(step_options, scene);
+  stats["steps"] = run_steps(script, scene, step_options);
+  output_stats(stats, nullptr, scene, 0.0, total.ms());
+  for (StagedFile& file : scene.staged) file.commit();
+  scene.staged.clear();
   return stats;
 }
 

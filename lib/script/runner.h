@@ -35,6 +35,21 @@ class Step;
 struct Scene;
 struct StepContext;
 
+/// How run_in_memory names its input in the stats and messages, and how it reports.
+struct MemoryRunOptions {
+  std::string mesh;     // the mesh's file, or "" for a mesh made from arrays (stats: null)
+  double read_ms = 0;   // what reading it took, when it was read for this run
+  bool quiet = true;    // no per-step lines on stderr
+};
+
+/// run_script on a mesh in memory (the Python module's run): checks the steps' output
+/// files against `scene.output_folder`, runs every step on `scene`, and puts the steps'
+/// files in place only when all succeeded. Returns the stats run_script writes, with an
+/// output section that names no file ("mesh": null, "write_ms": 0). The scene keeps the
+/// warp stack, so Scene::write_options() writes the mesh as the CLI would.
+/// \throw InputError, SolverError, IoError as run_script; nothing is written then.
+nlohmann::ordered_json run_in_memory(const Script& script, Scene& scene, const MemoryRunOptions& options);
+
 /// Runs one of `script`'s steps on `scene`. An error the step raises without a place is
 /// placed at the key its op's table gives the error's subject, or else at the step.
 void run_step(const Script& script, const Step& step, Scene& scene, StepContext& ctx);

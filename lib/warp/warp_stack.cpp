@@ -119,13 +119,17 @@ Eigen::Vector3d WarpStack::transform_normal(const Mesh& mesh, std::uint32_t v, c
   return len > 0 ? Eigen::Vector3d(m / len) : n;
 }
 
-std::vector<std::string> WarpStack::bake(Mesh& mesh) {
-  bake_file_normals(mesh, [&](std::uint32_t v, const Eigen::Vector3d& n) { return transform_normal(mesh, v, n); });
-  mesh.bake();
+void WarpStack::bake_copy(Mesh& copy) const {
+  bake_file_normals(copy, [&](std::uint32_t v, const Eigen::Vector3d& n) { return transform_normal(copy, v, n); });
+  copy.bake();
   for (std::size_t k = 1; k < warps_.size(); ++k) {
-    mesh.remove_vec3_attribute(input_name(k, "pos"));
-    mesh.remove_vec3_attribute(input_name(k, "nrm"));
+    copy.remove_vec3_attribute(input_name(k, "pos"));
+    copy.remove_vec3_attribute(input_name(k, "nrm"));
   }
+}
+
+std::vector<std::string> WarpStack::bake(Mesh& mesh) {
+  bake_copy(mesh);
   std::vector<std::string> dropped = std::move(names_);
   names_.clear();
   warps_.clear();

@@ -61,6 +61,9 @@ public:
   /// Freezes the deformation: rest := current (positions, normals, file normals), and
   /// drops every warp. Returns the names of the warps dropped.
   std::vector<std::string> bake(Mesh& mesh);
+  /// What bake does to the mesh, done to `copy`, a clone of the mesh this stack deforms
+  /// (the stack and its own mesh stay as they are): a run's result fed to another run.
+  void bake_copy(Mesh& copy) const;
 
   /// Name of the mesh attribute (Mesh::vec3_attribute) holding warp k's input positions
   /// (k >= 1; warp 0 reads the rest positions).
