@@ -115,4 +115,90 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   counts.folded += folded;
 }
 
+namespace {
+
+using Block = double[BernsteinLattice::kBlock];
+
+// B_i^n at each lane's u, out[i][lane], by bernstein()'s recurrence. Every loop over the
+// lanes is `omp simd`: left alone, GCC unrolls the lanes and vectorizes the loop over k.
+void bernstein_block(int n, const Block& u, Block* out) {
+  constexpr int L = BernsteinLattice::kBlock;
+#pragma omp simd
+  for (int l = 0; l < L; ++l) out[0][l] = 1;
+  for (int d = 1; d <= n; ++d) {
+#pragma omp simd
+    for (int l = 0; l < L; ++l) out[d][l] = u[l] * out[d - 1][l];
+    for (int i = d - 1; i >= 1; --i) {
+#pragma omp simd
+      for (int l = 0; l < L; ++l) out[i][l] = (1 - u[l]) * out[i][l] + u[l] * out[i - 1][l];
+    }
+#pragma omp simd
+    for (int l = 0; l < L; ++l) out[0][l] *= 1 - u[l];
+  }
+}
+
+// sum_i B_i(u) sum_j B_j(v) sum_k B_k(w) D_ijk for one coordinate's displacements D
+// ([i][j][k]), per lane: k, then j, then i, as apply() sums.
+void contract_block(const int* n, const double* D, const Block* const* w, Block& acc) {
+  constexpr int L = BernsteinLattice::kBlock;
+#pragma omp simd
+  for (int l = 0; l < L; ++l) acc[l] = 0;
+  for (int i = 0; i <= n[0]; ++i) {
+    Block si = {};
+    for (int j = 0; j <= n[1]; ++j) {
+      const double* row = D + (static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1);
+      Block sj = {};
+      for (int k = 0; k <= n[2]; ++k) {
+#pragma omp simd
+        for (int l = 0; l < L; ++l) sj[l] += w[2][k][l] * row[k];
+      }
+#pragma omp simd
+      for (int l = 0; l < L; ++l) si[l] += w[1][j][l] * sj[l];
+    }
+#pragma omp simd
+    for (int l = 0; l < L; ++l) acc[l] += w[0][i][l] * si[l];
+  }
+}
+
+}  // namespace
+
+void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                       const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos) const {
+  const int n[3] = {cells_[0], cells_[1], cells_[2]};
+  const std::size_t count = displacement_.size();
+  std::vector<double> D(3 * count);  // by coordinate, then [i][j][k]
+  for (int i = 0; i <= n[0]; ++i)
+    for (int j = 0; j <= n[1]; ++j)
+      for (int k = 0; k <= n[2]; ++k) {
+        const std::size_t slot = (static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1) + k;
+        for (int c = 0; c < 3; ++c) D[c * count + slot] = displacement_[flat({i, j, k})][c];
+      }
+  const Eigen::Matrix3d& inv = box_.inverse_axes();
+  const Eigen::Vector3d& origin = box_.origin();
+  const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + kBlock - 1) / kBlock);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+    const std::size_t first = static_cast<std::size_t>(b) * kBlock;
+    const int lanes = static_cast<int>(std::min<std::size_t>(kBlock, ids.size() - first));
+    Block u[3];
+    bool in[kBlock];
+    for (int l = 0; l < kBlock; ++l) {  // lanes past the end repeat the block's first point
+      const Eigen::Vector3d local = inv * (in_pos.col(ids[first + (l < lanes ? l : 0)]) - origin);
+      in[l] = inside(local);
+      for (int a = 0; a < 3; ++a) u[a][l] = local[a];
+    }
+    Block w[3][kMaxDegree + 1];
+    for (int a = 0; a < 3; ++a) bernstein_block(n[a], u[a], w[a]);
+    const Block* const axes[3] = {w[0], w[1], w[2]};
+    for (int c = 0; c < 3; ++c) {
+      Block acc;
+      contract_block(n, D.data() + c * count, axes, acc);
+      for (int l = 0; l < lanes; ++l) {
+        const std::uint32_t v = ids[first + l];
+        out_pos(c, v) = in[l] ? in_pos(c, v) + acc[l] : in_pos(c, v);
+      }
+    }
+  }
+}
+
 }  // namespace ffd
