@@ -15,7 +15,7 @@ Rules:
                     lowercase letter or underscore) in the code of the algorithm folders
                     (POINTER_DIRS); the script layer adds the place. Comments do not count,
                     nor absolute file-system paths ("/proc/", "/tmp/", ...).
-  long-function     no function body longer than MAX_FUNCTION_LINES lines in lib/ and apps/,
+  long-function     no function body longer than MAX_FUNCTION_LINES lines in lib/, apps/ and python/,
                     counted from its "{" line to its "}" line; lambdas and initializers
                     inside a function count toward it.
 
@@ -32,8 +32,8 @@ import sys
 
 MAX_FUNCTION_LINES = 80
 SOURCE_SUFFIXES = (".cpp", ".cc", ".cxx", ".h", ".hpp")
-SCAN_DIRS = ("lib", "apps")  # every rule's folders lie inside these
-FUNCTION_DIRS = ("lib", "apps")
+SCAN_DIRS = ("lib", "apps", "python")  # every rule's folders lie inside these
+FUNCTION_DIRS = ("lib", "apps", "python")
 NLOHMANN_DIRS = ("lib",)
 # The glTF writer edits glTF JSON itself (a file format that is JSON, not a script).
 NLOHMANN_EXEMPT = ("lib/script", "lib/batch", "lib/mesh/gltf_write.cpp")

@@ -12,6 +12,7 @@ packages=(
   libcgal-demo
   libxml2-utils
   python3
+  python3-dev pybind11-dev python3-numpy python3-scipy python3-pytest
 )
 
 missing=()

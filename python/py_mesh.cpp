@@ -1,0 +1,168 @@
+// ffdtool.Mesh, ffdtool.read and Mesh.write.
+#include "py_mesh.h"
+
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include "common/errors.h"
+#include "mesh/build_mesh.h"
+#include "mesh/mesh_io.h"
+#include "py_arrays.h"
+#include "common/atomic_file.h"
+
+namespace ffd::py {
+namespace {
+
+PyMesh read(const std::filesystem::path& file) {
+  const std::string path = file.string();
+  PyMesh out{std::make_shared<Scene>(), path};
+  pb::gil_scoped_release unlocked;
+  out.scene->mesh = read_mesh(path);
+  return out;
+}
+
+// Writes as `ffdtool run` writes its output: the file whole or not at all, a glTF's
+// buffers and images beside it, file normals carried through the run's warps.
+void write(PyMesh& self, const std::filesystem::path& file) {
+  const std::string path = file.string();
+  const Scene& scene = *self.scene;
+  pb::gil_scoped_release unlocked;
+  const MeshFormat format = mesh_format(path);
+  require_output_folder(path, "output");
+  check_writable(scene.mesh, format, path);
+  for (StagedFile& file : stage_mesh_files(path, scene.mesh, scene.write_options())) file.commit();
+}
+
+// Element e of a (m, k) array or of a sequence of sequences, added to `elements`.
+void add_faces(const pb::object& faces, std::size_t vertices, MeshElements& elements) {
+  if (faces.is_none()) return;
+  std::size_t f = 0;
+  for (const pb::handle face : faces) {
+    for (const pb::handle corner : face) {
+      const long long v = corner.cast<long long>();
+      if (v < 0 || static_cast<std::size_t>(v) >= vertices)
+        throw InputError(At{"Mesh(): faces[" + std::to_string(f) + "]"},
+                         "vertex " + std::to_string(v) + " does not exist (the mesh has " +
+                             std::to_string(vertices) + " vertices)");
+      elements.add_corner(static_cast<std::uint32_t>(v));
+    }
+    elements.close(ElementKind::Polygon, -1, 0);
+    ++f;
+  }
+}
+
+PyMesh from_arrays(const Float64Array& vertices, const pb::object& faces) {
+  PolygonSoup soup;
+  soup.positions = point_list(vertices, "Mesh(): vertices");
+  add_faces(faces, soup.positions.size(), soup.elements);
+  PyMesh out{std::make_shared<Scene>(), ""};
+  pb::gil_scoped_release unlocked;
+  out.scene->mesh = build_mesh(std::move(soup), "Mesh()");
+  return out;
+}
+
+// The polygons: (m, k) when every polygon has k corners, else (offsets, indices).
+pb::object faces(const PyMesh& self) {
+  const Mesh& mesh = self.scene->mesh;
+  std::vector<std::uint32_t> offsets{0}, indices, face;
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    mesh.face_vertices(f, face);
+    indices.insert(indices.end(), face.begin(), face.end());
+    offsets.push_back(static_cast<std::uint32_t>(indices.size()));
+  }
+  const std::size_t m = mesh.num_faces();
+  const std::size_t k = m ? offsets[1] : 3;
+  bool pure = true;
+  for (std::size_t f = 0; f < m && pure; ++f) pure = offsets[f + 1] - offsets[f] == k;
+  if (pure) return int_array(indices, {static_cast<pb::ssize_t>(m), static_cast<pb::ssize_t>(k)});
+  return pb::make_tuple(int_array(offsets, {static_cast<pb::ssize_t>(offsets.size())}),
+                        int_array(indices, {static_cast<pb::ssize_t>(indices.size())}));
+}
+
+pb::object uvs(const PyMesh& self) {
+  const Mesh& mesh = self.scene->mesh;
+  if (!mesh.has_uvs()) return pb::none();
+  pb::array_t<double> out({static_cast<pb::ssize_t>(mesh.uvs().size()), pb::ssize_t{2}});
+  for (std::size_t i = 0; i < mesh.uvs().size(); ++i)
+    for (int a = 0; a < 2; ++a) out.mutable_at(i, a) = mesh.uvs()[i][a];
+  return out;
+}
+
+pb::object colors(const PyMesh& self) {
+  const Mesh& mesh = self.scene->mesh;
+  if (!mesh.has_colors()) return pb::none();
+  pb::array_t<float> out({static_cast<pb::ssize_t>(mesh.colors().size()), pb::ssize_t{3}});
+  for (std::size_t i = 0; i < mesh.colors().size(); ++i)
+    for (int a = 0; a < 3; ++a) out.mutable_at(i, a) = mesh.colors()[i][a];
+  return out;
+}
+
+pb::object corner_indices(const std::vector<std::int32_t>& corner) {
+  if (corner.empty()) return pb::none();
+  return int_array(corner, {static_cast<pb::ssize_t>(corner.size())});
+}
+
+std::string repr(const PyMesh& self) {
+  const Mesh& mesh = self.scene->mesh;
+  return "<ffdtool.Mesh " + std::to_string(mesh.num_vertices()) + " vertices, " + std::to_string(mesh.num_faces()) +
+         " faces" + (self.file.empty() ? "" : " from '" + self.file + "'") + ">";
+}
+
+}  // namespace
+
+Mesh run_input(const PyMesh& source) {
+  const Scene& scene = *source.scene;
+  Mesh mesh = scene.mesh.clone();
+  if (scene.stack.size() > 0) {
+    scene.stack.bake_copy(mesh);
+  } else if (mesh.positions() != mesh.rest_positions()) {
+    mesh.rest_positions() = mesh.positions();
+    mesh.recompute_rest_normals(true);
+  }
+  return mesh;
+}
+
+void bind_mesh(pb::module_& m) {
+  pb::class_<PyMesh>(m, "Mesh", "A polygon mesh (faces, lines and points) with the attributes ffdtool keeps.")
+      .def(pb::init(&from_arrays), pb::arg("vertices"), pb::arg("faces") = pb::none(),
+           "Mesh(vertices, faces=None): vertices (n, 3) float; faces (m, k) int or a list of polygons "
+           "(vertex index lists of any size); none for a point cloud.")
+      .def_property_readonly(
+          "vertices",
+          [](pb::object self) {
+            Mesh& mesh = self.cast<PyMesh&>().scene->mesh;
+            return vec3_view(mesh.positions().data(), mesh.num_vertices(), self, true);
+          },
+          "(n, 3) float64 view of the vertices (no copy: writes go through to write() and run()).")
+      .def_property_readonly(
+          "normals",
+          [](pb::object self) {
+            Mesh& mesh = self.cast<PyMesh&>().scene->mesh;
+            return vec3_view(mesh.normals().data(), mesh.num_vertices(), self, false);
+          },
+          "(n, 3) float64 read-only view of the unit vertex normals (angle-weighted, carried through the warps).")
+      .def_property_readonly("faces", &faces,
+                             "The polygons: an (m, k) int64 array when every polygon has k corners, else a tuple "
+                             "(offsets (m + 1,), indices): polygon f is indices[offsets[f]:offsets[f + 1]].")
+      .def_property_readonly("uvs", &uvs, "(t, 2) float64 texture coordinates (the file's table), or None.")
+      .def_property_readonly(
+          "corner_uvs", [](const PyMesh& s) { return corner_indices(s.scene->mesh.elements().corner_uvs); },
+          "Per element corner, in element order, its row of uvs (-1: none), or None.")
+      .def_property_readonly(
+          "colors", &colors, "(n, 3) float32 vertex colours in [0, 1] (a copy), or None.")
+      .def_property_readonly("num_vertices", [](const PyMesh& s) { return s.scene->mesh.num_vertices(); },
+                             "The number of vertices (rows of vertices).")
+      .def_property_readonly("num_faces", [](const PyMesh& s) { return s.scene->mesh.num_faces(); },
+                             "The number of polygons (an OBJ's lines and points are not faces).")
+      .def_property_readonly("file", [](const PyMesh& s) { return s.file; },
+                             "The file the mesh was read from, '' for a mesh made from arrays or by run().")
+      .def("write", &write, pb::arg("path"),
+           "Writes the mesh (format from the extension: .obj .off .ply .stl .gltf .glb) as `ffdtool run` writes "
+           "its output: whole or not at all, with what the file it was read from carried.")
+      .def("__repr__", &repr);
+  m.def("read", &read, pb::arg("path"),
+        "Reads a mesh file (.obj .off .ply .stl .gltf .glb) as the CLI does. Raises InputError naming the file "
+        "and place for anything unreadable.");
+}
+
+}  // namespace ffd::py
