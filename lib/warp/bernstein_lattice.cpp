@@ -1,5 +1,7 @@
 #include "warp/bernstein_lattice.h"
 
+#include <algorithm>
+
 #include "common/errors.h"
 
 namespace ffd {
@@ -137,26 +139,35 @@ void bernstein_block(int n, const Block& u, Block* out) {
   }
 }
 
-// sum_i B_i(u) sum_j B_j(v) sum_k B_k(w) D_ijk for one coordinate's displacements D
-// ([i][j][k]), per lane: k, then j, then i, as apply() sums.
-void contract_block(const int* n, const double* D, const Block* const* w, Block& acc) {
+// sum_i B_i(u) sum_j B_j(v) sum_k B_k(w) D_ijk per lane and coordinate, D the displacements
+// as [i][j][k][x, y, z]: k, then j, then i, as apply() sums. The three coordinates go
+// together, so each basis value is loaded once.
+void contract_block(const int* n, const double* D, const Block* const* w, Block (&acc)[3]) {
   constexpr int L = BernsteinLattice::kBlock;
-#pragma omp simd
-  for (int l = 0; l < L; ++l) acc[l] = 0;
+  for (Block& a : acc) std::fill(a, a + L, 0.0);
   for (int i = 0; i <= n[0]; ++i) {
-    Block si = {};
+    Block si[3] = {};
     for (int j = 0; j <= n[1]; ++j) {
-      const double* row = D + (static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1);
-      Block sj = {};
+      const double* row = D + 3 * (static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1);
+      Block sj[3] = {};
       for (int k = 0; k <= n[2]; ++k) {
+        const double dx = row[3 * k], dy = row[3 * k + 1], dz = row[3 * k + 2];
 #pragma omp simd
-        for (int l = 0; l < L; ++l) sj[l] += w[2][k][l] * row[k];
+        for (int l = 0; l < L; ++l) {
+          sj[0][l] += w[2][k][l] * dx;
+          sj[1][l] += w[2][k][l] * dy;
+          sj[2][l] += w[2][k][l] * dz;
+        }
       }
+      for (int c = 0; c < 3; ++c) {
 #pragma omp simd
-      for (int l = 0; l < L; ++l) si[l] += w[1][j][l] * sj[l];
+        for (int l = 0; l < L; ++l) si[c][l] += w[1][j][l] * sj[c][l];
+      }
     }
+    for (int c = 0; c < 3; ++c) {
 #pragma omp simd
-    for (int l = 0; l < L; ++l) acc[l] += w[0][i][l] * si[l];
+      for (int l = 0; l < L; ++l) acc[c][l] += w[0][i][l] * si[c][l];
+    }
   }
 }
 
@@ -165,13 +176,12 @@ void contract_block(const int* n, const double* D, const Block* const* w, Block&
 void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                        const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos) const {
   const int n[3] = {cells_[0], cells_[1], cells_[2]};
-  const std::size_t count = displacement_.size();
-  std::vector<double> D(3 * count);  // by coordinate, then [i][j][k]
+  std::vector<double> D(3 * displacement_.size());  // [i][j][k][x, y, z]
   for (int i = 0; i <= n[0]; ++i)
     for (int j = 0; j <= n[1]; ++j)
       for (int k = 0; k <= n[2]; ++k) {
         const std::size_t slot = (static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1) + k;
-        for (int c = 0; c < 3; ++c) D[c * count + slot] = displacement_[flat({i, j, k})][c];
+        for (int c = 0; c < 3; ++c) D[3 * slot + c] = displacement_[flat({i, j, k})][c];
       }
   const Eigen::Matrix3d& inv = box_.inverse_axes();
   const Eigen::Vector3d& origin = box_.origin();
@@ -190,13 +200,11 @@ void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>&
     Block w[3][kMaxDegree + 1];
     for (int a = 0; a < 3; ++a) bernstein_block(n[a], u[a], w[a]);
     const Block* const axes[3] = {w[0], w[1], w[2]};
-    for (int c = 0; c < 3; ++c) {
-      Block acc;
-      contract_block(n, D.data() + c * count, axes, acc);
-      for (int l = 0; l < lanes; ++l) {
-        const std::uint32_t v = ids[first + l];
-        out_pos(c, v) = in[l] ? in_pos(c, v) + acc[l] : in_pos(c, v);
-      }
+    Block acc[3];
+    contract_block(n, D.data(), axes, acc);
+    for (int l = 0; l < lanes; ++l) {
+      const std::uint32_t v = ids[first + l];
+      for (int c = 0; c < 3; ++c) out_pos(c, v) = in[l] ? in_pos(c, v) + acc[c][l] : in_pos(c, v);
     }
   }
 }

@@ -16,13 +16,16 @@ void warp_points(const Warp& warp, const Eigen::Ref<const Eigen::Matrix3Xd>& in,
   // the sums across several points at a time); every other warp evaluates point by point.
   // The positions come from that path whether or not Jacobians are asked for, so they
   // never differ by it.
-  std::vector<std::uint32_t> ids;
   const auto* bspline = dynamic_cast<const BSplineLattice*>(&warp);
   const auto* bernstein = dynamic_cast<const BernsteinLattice*>(&warp);
-  if (bspline || bernstein) {
-    ids.resize(static_cast<std::size_t>(n));
-    std::iota(ids.begin(), ids.end(), 0u);
+  // The kernels take point ids: 0..n-1, kept between calls (a loop over batches of points
+  // would otherwise allocate and fault in 4 bytes a point every time).
+  thread_local std::vector<std::uint32_t> all_ids;
+  if ((bspline || bernstein) && all_ids.size() != static_cast<std::size_t>(n)) {
+    all_ids.resize(static_cast<std::size_t>(n));
+    std::iota(all_ids.begin(), all_ids.end(), 0u);
   }
+  const std::vector<std::uint32_t>& ids = all_ids;
   if (bspline) {
     bspline->apply_positions(in, ids, out);
   } else if (bernstein) {
