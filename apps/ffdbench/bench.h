@@ -94,5 +94,6 @@ void bench_multires(Context& ctx);
 void bench_seam(Context& ctx);
 void bench_deformers(Context& ctx);
 void bench_compare(Context& ctx);
+void bench_python(Context& ctx);
 
 }  // namespace ffd::bench

@@ -23,6 +23,9 @@ const std::vector<Suite>& suites() {
       {"compare", "the Hausdorff compare of 100k and 1M-vertex meshes against reading them and CGAL's "
                   "approximate_Hausdorff_distance; a folder compare of CGAL's meshes against their FFD",
        bench_compare},
+      {"python", "the Python module's d(points) against the C++ kernel it calls, PyGeM's FFD (PYGEM_SOURCE) and "
+                 "ffdtool.run in memory against `ffdtool run` from and to files",
+       bench_python},
   };
   return all;
 }
