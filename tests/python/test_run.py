@@ -155,3 +155,29 @@ def test_warnings_of_a_run_are_python_warnings(bunny):
     with pytest.warns(ffdtool.FfdWarning):
         _, stats = ffdtool.run(bunny, script)
     assert stats["warnings"]
+
+
+@pytest.mark.parametrize("source,output", [("gltf/scene.glb", "out.glb"), ("gltf/scene_separate.gltf", "out.gltf"),
+                                           ("gltf/scene_world.obj", "out.obj")])
+def test_a_scene_with_normals_and_uvs_is_written_as_the_cli_writes_it(data, tmp_path, run_cli, source, output):
+    """glTF nodes, materials and buffers, OBJ vn and vt: what the file carries, carried as
+    the CLI carries it (normals through the warps' cofactors)."""
+    script = steps({"op": "lattice", "name": "L", "cells": [4, 4, 4]},
+                   {"op": "move", "lattice": "L", "points": [{"index": [2, 2, 2], "by": [0.2, 0.4, -0.1]}]},
+                   {"op": "lattice", "name": "B", "basis": "bernstein", "cells": [2, 2, 2]},
+                   {"op": "move", "lattice": "B", "points": [{"index": [1, 1, 1], "by": [0.1, 0, 0.1]}]})
+    mesh = os.path.join(data, source)
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(script))
+    assert run_cli("run", mesh, path, "-o", tmp_path / "cli" / output, "--quiet").returncode == 0
+    out, _ = ffdtool.run(ffdtool.read(mesh), script)
+    out.write(tmp_path / "py" / output)
+    cli_files = sorted(p.name for p in (tmp_path / "cli").iterdir())
+    assert cli_files == sorted(p.name for p in (tmp_path / "py").iterdir())
+    for name in cli_files:
+        assert filecmp.cmp(tmp_path / "cli" / name, tmp_path / "py" / name, shallow=False), name
+    if source.endswith(".obj"):
+        read = ffdtool.read(mesh)
+        assert read.uvs is not None and read.corner_uvs is not None and len(read.corner_uvs) == read.faces.size
