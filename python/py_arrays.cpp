@@ -29,6 +29,12 @@ std::vector<Eigen::Vector3d> point_list(const Float64Array& points, const std::s
   return out;
 }
 
+void check_finite(const std::vector<Eigen::Vector3d>& points, const std::string& what) {
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!points[i].allFinite())
+      throw InputError(At{what + "[" + std::to_string(i) + "]"}, "a coordinate is not a finite number");
+}
+
 pb::array vec3_view(double* data, std::size_t n, pb::handle owner, bool writeable) {
   pb::array view(pb::dtype::of<double>(), {static_cast<pb::ssize_t>(n), pb::ssize_t{3}},
                  {static_cast<pb::ssize_t>(3 * sizeof(double)), static_cast<pb::ssize_t>(sizeof(double))}, data, owner);

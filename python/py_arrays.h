@@ -20,6 +20,9 @@ Eigen::Map<const Eigen::Matrix3Xd> point_matrix(const Float64Array& points, cons
 /// The same as a list of points (a copy).
 std::vector<Eigen::Vector3d> point_list(const Float64Array& points, const std::string& what, bool single = false);
 
+/// \throw InputError at "what[i]" for the first point with a coordinate that is not finite.
+void check_finite(const std::vector<Eigen::Vector3d>& points, const std::string& what);
+
 /// An (n, 3) float64 array over `data` (3 n doubles) that keeps `owner` alive; read-only
 /// unless `writeable`.
 pb::array vec3_view(double* data, std::size_t n, pb::handle owner, bool writeable);

@@ -4,6 +4,8 @@
 
 #include <pybind11/stl.h>
 
+#include <stdexcept>
+
 #include "common/errors.h"
 #include "mesh/build_mesh.h"
 #include "py_arrays.h"
@@ -22,7 +24,10 @@ void PyDeformer::refresh() {
       shown.push_back(now);
       known.push_back(now);
     } else {
-      shown[at] = now;  // the same size: the memory views look at stays
+      // Views of shown[at] are out there: its memory must stay. A level's point count is
+      // fixed once made (only a subdivide step adds a level, and Python has none).
+      if (now.cols() != shown[at].cols()) throw std::logic_error("a deformer level changed its point count");
+      shown[at] = now;
       known[at] = now;
     }
   }
@@ -69,6 +74,7 @@ Mesh construction_mesh(const pb::object& around, const std::string& label) {
   if (pb::isinstance<PyMesh>(around)) return run_input(around.cast<const PyMesh&>());
   PolygonSoup soup;
   soup.positions = point_list(around.cast<Float64Array>(), label + ": mesh");
+  check_finite(soup.positions, label + ": mesh");
   return build_mesh(std::move(soup), label);
 }
 

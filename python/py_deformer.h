@@ -31,4 +31,16 @@ struct PyDeformer {
   int level_of(const std::optional<int>& level) const;
 };
 
+/// Runs f() on `d` with the GIL released, d's lock held (taken after the GIL is let go, so
+/// two Python threads never wait on each other), `threads` OpenMP threads (0: as set), and
+/// the points written into d's views moved first.
+template <class F>
+void with_deformer(PyDeformer& d, int threads, F&& f) {
+  pb::gil_scoped_release unlocked;
+  std::lock_guard<std::mutex> guard(d.lock);
+  ThreadScope scope(threads);
+  d.sync();
+  f();
+}
+
 }  // namespace ffd::py

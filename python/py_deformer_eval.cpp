@@ -57,14 +57,10 @@ pb::object apply(pb::object self, const Float64Array& points, bool jacobians, in
                                       : pb::array_t<double>();
   Eigen::Map<Eigen::Matrix3Xd> out_map(out.mutable_data(), 3, in.cols());
   double* jac_data = jacobians ? jac.mutable_data() : nullptr;
-  {
-    pb::gil_scoped_release unlocked;
-    std::lock_guard<std::mutex> guard(d.lock);
-    ThreadScope scope(threads);
-    d.sync();
+  with_deformer(d, threads, [&] {
     d.deformer->prepare();
     warp_points(*d.deformer, in, out_map, jac_data);
-  }
+  });
   if (jacobians) return pb::make_tuple(out, jac);
   return std::move(out);
 }
@@ -73,11 +69,7 @@ pb::tuple weights(PyDeformer& d, const Float64Array& points, std::optional<int> 
   const Eigen::Map<const Eigen::Matrix3Xd> x = point_matrix(points, d.label + ".weights: points");
   Csr m;
   std::size_t cols = 0;
-  {
-    pb::gil_scoped_release unlocked;
-    std::lock_guard<std::mutex> guard(d.lock);
-    ThreadScope scope(threads);
-    d.sync();
+  with_deformer(d, threads, [&] {
     const int l = d.level_of(level);
     cols = d.deformer->num_points(l);
     for (const PointWeights& row : weight_rows(*d.deformer, l, x)) {
@@ -87,7 +79,7 @@ pb::tuple weights(PyDeformer& d, const Float64Array& points, std::optional<int> 
       }
       m.indptr.push_back(static_cast<std::int64_t>(m.indices.size()));
     }
-  }
+  });
   return csr_tuple(m, static_cast<std::size_t>(x.cols()), cols);
 }
 
@@ -123,13 +115,7 @@ pb::tuple sensitivity(PyDeformer& d, const pb::object& at, std::optional<int> le
            : point_matrix(points, d.label + ".sensitivity: mesh");
   Csr m;
   std::size_t columns = 0;
-  {
-    pb::gil_scoped_release unlocked;
-    std::lock_guard<std::mutex> guard(d.lock);
-    ThreadScope scope(threads);
-    d.sync();
-    m = sensitivity_matrix(*d.deformer, d.level_of(level), x, columns);
-  }
+  with_deformer(d, threads, [&] { m = sensitivity_matrix(*d.deformer, d.level_of(level), x, columns); });
   return csr_tuple(m, 3 * static_cast<std::size_t>(x.cols()), columns);
 }
 

@@ -2,6 +2,8 @@
 // index, by writing into the views, and by dragging object points.
 #include <pybind11/stl.h>
 
+#include <algorithm>
+
 #include "common/errors.h"
 #include "py_arrays.h"
 #include "py_deformer.h"
@@ -10,27 +12,42 @@
 namespace ffd::py {
 namespace {
 
-// One script-style point index: an int n, or [i, j, k] on a grid.
-PointIndex point_index(const pb::handle& item, bool grid) {
+// An int or a numpy integer; not a numpy array, which has __index__ too (for size 1).
+bool is_integer(const pb::handle& h) { return PyIndex_Check(h.ptr()) && !PySequence_Check(h.ptr()); }
+
+// One script-style point index: an integer n, or [i, j, k] (any sequence of three
+// integers). \throw InputError at `at` for anything else.
+PointIndex point_index(const pb::handle& item, const At& at) {
   PointIndex index;
-  if (pb::isinstance<pb::int_>(item) || !pb::isinstance<pb::sequence>(item)) {
+  if (is_integer(item)) {
     index.grid = false;
     index.n = item.cast<long long>();
     return index;
   }
-  const auto seq = item.cast<pb::sequence>();
-  if (seq.size() != 3) throw InputError("a lattice index is [i, j, k], three integers");
-  for (int a = 0; a < 3; ++a) index.ijk[a] = seq[static_cast<std::size_t>(a)].cast<int>();
+  std::size_t a = 0;
+  bool integers = pb::isinstance<pb::sequence>(item);
+  if (integers)
+    for (const pb::handle h : item) {
+      integers = integers && is_integer(h) && a < 3;
+      if (integers) index.ijk[a++] = h.cast<int>();
+    }
+  if (!integers || a != 3) throw InputError(at, "a point index is an integer n or a lattice index [i, j, k]");
   return index;
 }
 
-// `index` as a list: one index (n, or [i, j, k] on a grid), or a list of them.
-std::vector<PointIndex> point_indices(const pb::object& index, bool grid) {
-  const bool one = pb::isinstance<pb::int_>(index) ||
-                   (grid && pb::len(index) == 3 && pb::isinstance<pb::int_>(index.cast<pb::sequence>()[0]));
-  if (one) return {point_index(index, grid)};
+// `index` as a list: one index (n, or [i, j, k] on a grid), or a sequence of them.
+std::vector<PointIndex> point_indices(const pb::object& index, bool grid, const std::string& label) {
+  bool one = is_integer(index);
+  if (grid && !one && pb::isinstance<pb::sequence>(index) && pb::len(index) == 3) {
+    one = true;
+    for (const pb::handle h : index) one = one && is_integer(h);
+  }
+  if (one) return {point_index(index, At{label + ".move: index"})};
+  if (!pb::isinstance<pb::sequence>(index))
+    throw InputError(At{label + ".move: index"}, "an integer, [i, j, k], or a list of them");
   std::vector<PointIndex> out;
-  for (const pb::handle item : index) out.push_back(point_index(item, grid));
+  for (const pb::handle item : index)
+    out.push_back(point_index(item, At{label + ".move: index[" + std::to_string(out.size()) + "]"}));
   return out;
 }
 
@@ -61,7 +78,7 @@ pb::dict report(const MoveReport& r) {
 pb::dict move(PyDeformer& d, const pb::object& index, const std::optional<Float64Array>& to,
               const std::optional<Float64Array>& by, const std::optional<int>& level) {
   if (to.has_value() == by.has_value()) throw InputError(At{d.label + ".move"}, "give exactly one of to and by");
-  const std::vector<PointIndex> indices = point_indices(index, d.deformer->grid_indexed());
+  const std::vector<PointIndex> indices = point_indices(index, d.deformer->grid_indexed(), d.label);
   const std::vector<Eigen::Vector3d> given = point_list(to ? *to : *by, d.label + ".move: " + (to ? "to" : "by"), true);
   const std::size_t count = indices.size();
   if (given.size() != count && given.size() != 1)
@@ -69,10 +86,7 @@ pb::dict move(PyDeformer& d, const pb::object& index, const std::optional<Float6
                                                 (to ? " targets" : " displacements"));
   const bool absolute = to.has_value();
   MoveReport moved;
-  {
-    pb::gil_scoped_release unlocked;
-    std::lock_guard<std::mutex> guard(d.lock);
-    d.sync();
+  with_deformer(d, 0, [&] {
     const int l = d.level_of(level);
     const std::vector<std::size_t> ids = find_points(d, l, indices);
     const Eigen::Matrix3Xd now = d.deformer->points(l, ids);
@@ -83,7 +97,7 @@ pb::dict move(PyDeformer& d, const pb::object& index, const std::optional<Float6
     }
     moved = d.deformer->move_points(l, ids, targets);
     d.refresh();
-  }
+  });
   return report(moved);
 }
 
@@ -94,13 +108,10 @@ pb::dict drag_points(PyDeformer& d, const Float64Array& at, const Float64Array& 
     throw InputError(At{d.label + ".drag"}, std::to_string(from.size()) + " object points but " +
                                                 std::to_string(targets.size()) + " targets");
   DragResult result;
-  {
-    pb::gil_scoped_release unlocked;
-    std::lock_guard<std::mutex> guard(d.lock);
-    d.sync();
+  with_deformer(d, 0, [&] {
     result = drag(*d.deformer, d.level_of(level), from, targets);
     d.refresh();
-  }
+  });
   pb::dict out;
   out["max_residual"] = result.max_residual;
   out["rms_residual"] = result.rms_residual;

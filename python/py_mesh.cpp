@@ -4,11 +4,11 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "common/atomic_file.h"
 #include "common/errors.h"
 #include "mesh/build_mesh.h"
 #include "mesh/mesh_io.h"
 #include "py_arrays.h"
-#include "common/atomic_file.h"
 
 namespace ffd::py {
 namespace {
@@ -30,20 +30,24 @@ void write(PyMesh& self, const std::filesystem::path& file) {
   const MeshFormat format = mesh_format(path);
   require_output_folder(path, "output");
   check_writable(scene.mesh, format, path);
-  for (StagedFile& file : stage_mesh_files(path, scene.mesh, scene.write_options())) file.commit();
+  for (StagedFile& staged : stage_mesh_files(path, scene.mesh, scene.write_options())) staged.commit();
 }
 
-// Element e of a (m, k) array or of a sequence of sequences, added to `elements`.
+// Appends `faces` (an (m, k) integer array or a sequence of index sequences) to
+// `elements` as polygons. \throw InputError at "Mesh(): faces[f]" for an index that is not
+// an integer or names no vertex.
 void add_faces(const pb::object& faces, std::size_t vertices, MeshElements& elements) {
   if (faces.is_none()) return;
   std::size_t f = 0;
   for (const pb::handle face : faces) {
+    const At at{"Mesh(): faces[" + std::to_string(f) + "]"};
+    if (!pb::isinstance<pb::iterable>(face)) throw InputError(at, "a face is a sequence of vertex indices");
     for (const pb::handle corner : face) {
+      if (!PyIndex_Check(corner.ptr())) throw InputError(at, "vertex indices are integers");
       const long long v = corner.cast<long long>();
       if (v < 0 || static_cast<std::size_t>(v) >= vertices)
-        throw InputError(At{"Mesh(): faces[" + std::to_string(f) + "]"},
-                         "vertex " + std::to_string(v) + " does not exist (the mesh has " +
-                             std::to_string(vertices) + " vertices)");
+        throw InputError(at, "vertex " + std::to_string(v) + " does not exist (the mesh has " +
+                                 std::to_string(vertices) + " vertices)");
       elements.add_corner(static_cast<std::uint32_t>(v));
     }
     elements.close(ElementKind::Polygon, -1, 0);
@@ -54,6 +58,7 @@ void add_faces(const pb::object& faces, std::size_t vertices, MeshElements& elem
 PyMesh from_arrays(const Float64Array& vertices, const pb::object& faces) {
   PolygonSoup soup;
   soup.positions = point_list(vertices, "Mesh(): vertices");
+  check_finite(soup.positions, "Mesh(): vertices");
   add_faces(faces, soup.positions.size(), soup.elements);
   PyMesh out{std::make_shared<Scene>(), ""};
   pb::gil_scoped_release unlocked;

@@ -17,18 +17,19 @@ Prints one JSON object on stdout, every time a median of --repeats runs after a 
 The module comes from PYTHONPATH (ffdbench sets it to the build's python folder).
 """
 import argparse
-import importlib.util
 import json
 import os
 import subprocess
 import sys
 import tempfile
 import time
-import types
 
 import numpy as np
 
 import ffdtool
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pygem_rbf_compare import load_pygem_modules  # noqa: E402
 
 BOX = {"min": [0, 0, 0], "max": [1, 1, 1]}
 MOVE = [0.1, 0.1, 0.1]
@@ -53,18 +54,8 @@ def lattices():
 
 
 def load_pygem_ffd(source):
-    """PyGeM's FFD class from source/pygem, without its package __init__ (CAD readers)."""
-    pkg = types.ModuleType("pygem")
-    pkg.__path__ = [os.path.join(source, "pygem")]
-    sys.modules["pygem"] = pkg
-    for name in ("deformation", "utils", "ffd"):
-        spec = importlib.util.spec_from_file_location("pygem." + name, os.path.join(source, "pygem", name + ".py"))
-        module = importlib.util.module_from_spec(spec)
-        sys.modules["pygem." + name] = module
-        spec.loader.exec_module(module)
-        if name == "deformation":
-            pkg.Deformation = module.Deformation
-    return sys.modules["pygem.ffd"].FFD
+    """PyGeM's FFD class from source/pygem (as pygem_rbf_compare.py loads its RBF)."""
+    return load_pygem_modules(source, ("deformation", "utils", "ffd")).FFD
 
 
 def module_rows(points, repeats):

@@ -24,17 +24,25 @@ KERNELS = [("gaussian_spline", 4, 2), ("multi_quadratic_biharmonic_spline", 1, 2
            ("beckert_wendland_c2_basis", 9, 2), ("polyharmonic_spline", 5, 3), ("polyharmonic_spline", 5, 2)]
 
 
-def load_pygem_rbf(source):
-    """PyGeM's RBF class from source/pygem, without its package __init__ (CAD readers)."""
+def load_pygem_modules(source, names):
+    """PyGeM's modules `names` (in order) from source/pygem, without its package __init__
+    (CAD readers); returns the last."""
     pkg = types.ModuleType("pygem")
     pkg.__path__ = [os.path.join(source, "pygem")]
     sys.modules["pygem"] = pkg
-    for name in ("deformation", "rbf_factory", "rbf"):
+    for name in names:
         spec = importlib.util.spec_from_file_location("pygem." + name, os.path.join(source, "pygem", name + ".py"))
         module = importlib.util.module_from_spec(spec)
         sys.modules["pygem." + name] = module
         spec.loader.exec_module(module)
-    return sys.modules["pygem.rbf"].RBF
+        if name == "deformation":  # `from pygem import Deformation`
+            pkg.Deformation = module.Deformation
+    return module
+
+
+def load_pygem_rbf(source):
+    """PyGeM's RBF class from source/pygem."""
+    return load_pygem_modules(source, ("deformation", "rbf_factory", "rbf")).RBF
 
 
 def obj_vertices(path):

@@ -175,6 +175,35 @@ def test_points_is_a_view_that_moves_what_is_written(bunny):
     assert np.array_equal(p[fixed], before)
 
 
+def test_writing_an_octree_level_moves_it_as_move_does(bunny):
+    mesh = ffdtool.read(bunny)
+    a, b = ffdtool.OctreeLattice(mesh, levels=2), ffdtool.OctreeLattice(mesh, levels=2)
+    movable = np.flatnonzero(a.movable(level=1))
+    id = int(movable[len(movable) // 2])
+    level2 = a.points(level=2).copy()
+    a.points(level=1)[id] += [0.2, 0.1, 0.0]
+    b.move(a.indices(level=1)[id], by=[0.2, 0.1, 0.0], level=1)  # a numpy index
+    x = mesh.vertices[::5]
+    assert np.array_equal(a(x), b(x))
+    assert np.array_equal(a.points(level=2), b.points(level=2))
+    assert not np.array_equal(a.points(level=2), level2)  # the finer level follows the coarser one
+
+
+def test_numpy_integers_name_points_as_python_ones_do():
+    r = ffdtool.IDW(CENTRES)
+    r.move(np.int64(2), to=[0.1, 0.2, 0.3])
+    assert np.array_equal(r.points()[2], [0.1, 0.2, 0.3])
+    r.move(np.array([0, 1]), by=[[0, 0, 0.1], [0, 0, 0.2]])
+    assert np.array_equal(r.points()[:2, 2], CENTRES[:2, 2] + [0.1, 0.2])
+    lattice = ffdtool.BSplineLattice(None, cells=[6, 6, 6], box=BOX)
+    with pytest.raises(ffdtool.InputError) as e:
+        lattice.move([[3, 3, 3], [3, 3]], by=[0, 0, 1])
+    assert e.value.place == "BSplineLattice.move: index[1]"
+    with pytest.raises(ffdtool.InputError) as e:
+        r.move([1.5], by=[0, 0, 1])
+    assert e.value.place == "IDW.move: index[0]"
+
+
 def test_no_copy_of_c_contiguous_float64_points():
     d = ffdtool.BSplineLattice(None, cells=[6, 6, 6], box=BOX)
     d.move([3, 3, 3], by=[0.1, 0.1, 0.1])

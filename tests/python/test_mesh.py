@@ -62,6 +62,14 @@ def test_bad_arrays_and_files_raise_input_error_with_the_place(tmp_path):
     assert str(e.value).startswith("Mesh(): faces[1]: ")
     with pytest.raises(ffdtool.InputError, match="expected an \\(n, 3\\) array"):
         ffdtool.Mesh(np.zeros((4, 2)))
+    with pytest.raises(ffdtool.InputError, match="integers") as e:
+        ffdtool.Mesh(np.zeros((3, 3)), np.array([[0.0, 1.0, 2.0]]))
+    assert e.value.place == "Mesh(): faces[0]"
+    with pytest.raises(ffdtool.InputError, match="sequence of vertex indices"):
+        ffdtool.Mesh(np.zeros((3, 3)), [[0, 1, 2], 7])
+    with pytest.raises(ffdtool.InputError, match="not a finite number") as e:
+        ffdtool.Mesh(np.array([[0, 0, 0], [1, np.nan, 0], [0, 1, 0]]), [[0, 1, 2]])
+    assert e.value.place == "Mesh(): vertices[1]"
     bad = tmp_path / "bad.obj"
     bad.write_text("v 0 0 0\nv 1 0 0\nf 1 2 9\n")
     with pytest.raises(ffdtool.InputError) as e:
