@@ -4,11 +4,13 @@ the Python module's side of `ffdbench --suite python`, which runs it and prints 
 
 Prints one JSON object on stdout, every time a median of --repeats runs after a warm-up
 (time.perf_counter):
-- "module": ffdtool's d(points, out=) and d(points) on the first tenth and all of F's points (raw float64,
-  n x 3, written by ffdbench, which times the C++ kernel, warp_points, on the same
-  points), for a cubic B-spline lattice of 4^3 cells and a Bernstein lattice of degree 3
+- "module": ffdtool's d(points, out=) and d(points) on the first tenth and all of F's
+  points (raw float64, n x 3, written by ffdbench, which times the C++ kernel,
+  warp_points, on the same points), for a cubic B-spline lattice of 4^3 cells and a
+  Bernstein lattice of degree 3
   (4^3 points) on the box [0,1]^3, each with one point moved by (0.1, 0.1, 0.1), with
   1 and 2 threads;
+- "call_overhead_us": one call of d(x, out=) on a single point, in microseconds;
 - "pygem": PyGeM's FFD (its source at SRC; Debian's numpy and scipy) with 4^3 control
   points on the same box and the same move, on the same points, and the largest
   |ffdtool - PyGeM| (absent without --pygem);
@@ -73,6 +75,19 @@ def module_rows(points, repeats):
     return rows
 
 
+def call_overhead_us(calls=5000):
+    """What one d(x, out=...) call on one point costs, in microseconds: the binding's own
+    work (arguments, GIL, lock, the check for written points) beside the kernel's."""
+    d = lattices()["bspline"]
+    x = np.full((1, 3), 0.5)
+    out = np.empty_like(x)
+    d(x, out=out)
+    t0 = time.perf_counter()
+    for _ in range(calls):
+        d(x, out=out)
+    return (time.perf_counter() - t0) / calls * 1e6
+
+
 def pygem_rows(points, source, repeats):
     FFD = load_pygem_ffd(source)
     ffd = FFD([4, 4, 4])
@@ -111,7 +126,7 @@ def main():
     parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
     points = np.fromfile(args.points, dtype=np.float64).reshape(-1, 3)
-    result = {"module": module_rows(points, args.repeats)}
+    result = {"module": module_rows(points, args.repeats), "call_overhead_us": call_overhead_us()}
     if args.pygem:
         result["pygem"] = pygem_rows(points, args.pygem, args.repeats)
     result["run"] = run_rows(args)
