@@ -10,6 +10,7 @@
 #include "mesh/build_mesh.h"
 #include "py_arrays.h"
 #include "py_mesh.h"
+#include "script/op.h"
 #include "script/runner.h"
 #include "script/script.h"
 #include "warp/drag.h"
@@ -58,11 +59,17 @@ void PyDeformer::sync() {
   if (moved) refresh();
 }
 
+Deformer& PyDeformer::made() const {
+  if (!deformer) throw InputError("this deformer was never made: its constructor raised");
+  return *deformer;
+}
+
 int PyDeformer::level_of(const std::optional<int>& level) const {
-  if (!level) return deformer->default_level();
-  if (*level < 0 || *level >= deformer->num_levels())
+  const Deformer& d = made();
+  if (!level) return d.default_level();
+  if (*level < 0 || *level >= d.num_levels())
     throw InputError(At{label}, "level " + std::to_string(*level) + " does not exist (levels 0 to " +
-                                    std::to_string(deformer->num_levels() - 1) + ")");
+                                    std::to_string(d.num_levels() - 1) + ")");
   return *level;
 }
 
@@ -87,25 +94,28 @@ void place_at_keyword(Error& e, const std::string& label) {
   e.set_place(key.empty() ? label : label + ": " + key);
 }
 
-std::unique_ptr<PyDeformer> make_deformer(const std::string& step, const pb::object& around, const std::string& label) {
-  auto out = std::make_unique<PyDeformer>();
-  out->label = label;
-  out->scene = std::make_unique<Scene>();
-  Scene& scene = *out->scene;
-  scene.mesh = construction_mesh(around, label);
+// Makes d's deformer: the one-step scene of `step` around `around`.
+void make_deformer(PyDeformer& d, const std::string& step, const pb::object& around, const std::string& label) {
+  if (d.deformer) throw InputError(At{label}, "the deformer is made already");
+  d.label = label;
+  auto scene = std::make_unique<Scene>();
+  scene->mesh = construction_mesh(around, label);
   pb::gil_scoped_release unlocked;
   try {
     const Script script = parse_script(R"({"version": 1, "steps": [)" + step + "]}", label);
+    const std::string op = script.steps.at(0)->op->name();
+    if (op != "lattice" && op != "rbf" && op != "idw" && op != "cage")
+      throw InputError(At{label}, "a deformer is made by a lattice, rbf, idw or cage step, not " + op);
     StepContext ctx;
-    run_step(script, *script.steps.at(0), scene, ctx);
+    run_step(script, *script.steps.at(0), *scene, ctx);
   } catch (Error& e) {
     place_at_keyword(e, label);
     throw;
   }
-  out->deformer = scene.deformers.begin()->second;
-  scene.mesh = Mesh();  // move and apply never look at it again
-  out->refresh();
-  return out;
+  scene->mesh = Mesh();  // move and apply never look at it again
+  d.deformer = scene->deformers.begin()->second;
+  d.scene = std::move(scene);
+  d.refresh();
 }
 
 }  // namespace
@@ -117,14 +127,17 @@ void bind_deformers(pb::module_& m) {
   pb::class_<PyDeformer> c(m, "Deformer",
                            "A deformer with control points (a lattice, an RBF, an IDW or a cage). Make one with the "
                            "classes BSplineLattice, BernsteinLattice, OctreeLattice, RBF, IDW and Cage.");
-  c.def(pb::init(&make_deformer), pb::arg("step"), pb::arg("around"), pb::arg("label"),
-        "Deformer(step, around, label): the deformer a script step (JSON text of one lattice, rbf, idw or cage "
-        "step) makes around `around` (a Mesh, (n, 3) points or None); errors name `label` and the step's key.");
-  c.def_property_readonly("kind", [](const PyDeformer& d) { return d.deformer->kind(); },
+  // Made in two steps, so that a Python object whose making raised still holds a (empty)
+  // PyDeformer, which every method checks (made()), rather than no C++ object at all.
+  c.def(pb::init<>());
+  c.def("_make", &make_deformer, pb::arg("step"), pb::arg("around"), pb::arg("label"),
+        "Makes the deformer a script step (JSON text of one lattice, rbf, idw or cage step) makes around "
+        "`around` (a Mesh, (n, 3) points or None); errors name `label` and the step's key.");
+  c.def_property_readonly("kind", [](const PyDeformer& d) { return d.made().kind(); },
                           "The kind: 'bspline', 'bernstein', 'octree', 'rbf', 'idw' or 'cage'.");
-  c.def_property_readonly("num_levels", [](const PyDeformer& d) { return d.deformer->num_levels(); },
+  c.def_property_readonly("num_levels", [](const PyDeformer& d) { return d.made().num_levels(); },
                           "Levels of control points (an octree lattice's levels; 1 for the other kinds).");
-  c.def_property_readonly("scale", [](const PyDeformer& d) { return d.deformer->scale(); },
+  c.def_property_readonly("scale", [](const PyDeformer& d) { return d.made().scale(); },
                           "A length that sets the deformer's scale (its box's diagonal).");
   bind_deformer_moves(c);
   bind_deformer_evaluation(c);

@@ -29,6 +29,9 @@ struct PyDeformer {
   void refresh();
   /// `level`, or the default level when none. \throw InputError when out of range.
   int level_of(const std::optional<int>& level) const;
+  /// The deformer. \throw InputError when making it failed (a Python object whose
+  /// constructor raised can still be reached through the traceback).
+  Deformer& made() const;
 };
 
 /// Runs f() on `d` with the GIL released, d's lock held (taken after the GIL is let go, so
@@ -36,6 +39,7 @@ struct PyDeformer {
 /// the points written into d's views moved first.
 template <class F>
 void with_deformer(PyDeformer& d, int threads, F&& f) {
+  d.made();
   pb::gil_scoped_release unlocked;
   std::lock_guard<std::mutex> guard(d.lock);
   ThreadScope scope(threads);

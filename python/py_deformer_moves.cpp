@@ -148,14 +148,15 @@ void bind_deformer_moves(pb::class_<PyDeformer>& c) {
       "points(level=None) -> (n, 3) float64 view of the level's control points as they are now (default: the "
       "finest level). It follows every move; writing into it moves those points at the next call that uses the "
       "deformer (a point that is not movable raises InputError and is put back).");
-  c.def("num_points", [](PyDeformer& d, std::optional<int> level) { return d.deformer->num_points(d.level_of(level)); },
+  c.def("num_points", [](PyDeformer& d, std::optional<int> level) { return d.made().num_points(d.level_of(level)); },
         pb::arg("level") = pb::none(), "The number of control points of the level.");
   c.def(
       "movable",
       [](PyDeformer& d, std::optional<int> level) {
         const int l = d.level_of(level);
-        pb::array_t<bool> out(static_cast<pb::ssize_t>(d.deformer->num_points(l)));
-        for (std::size_t id = 0; id < d.deformer->num_points(l); ++id) out.mutable_at(id) = d.deformer->point_movable(l, id);
+        const Deformer& deformer = d.made();
+        pb::array_t<bool> out(static_cast<pb::ssize_t>(deformer.num_points(l)));
+        for (std::size_t id = 0; id < deformer.num_points(l); ++id) out.mutable_at(id) = deformer.point_movable(l, id);
         return out;
       },
       pb::arg("level") = pb::none(), "(n,) bool: which of the level's points may move.");

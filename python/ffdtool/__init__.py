@@ -112,7 +112,8 @@ class Deformer(_ffdtool.Deformer):
     def __init__(self, op, around, label, **keys):
         step = {"op": op, "name": "d"}
         step.update({k: v for k, v in keys.items() if v is not None})
-        super().__init__(_dumps(step), around, label)
+        super().__init__()
+        self._make(_dumps(step), around, label)
 
     def __call__(self, points, jacobians=False, threads=None, out=None):
         """F(points) for (n, 3) float points (input space): an (n, 3) float64 array, and
@@ -136,7 +137,10 @@ class Deformer(_ffdtool.Deformer):
         return _csr(self._sensitivity(mesh, level, int(threads or 0)))
 
     def __repr__(self):
-        return f"<ffdtool.{type(self).__name__} {self.kind}, {self.num_points()} points, {self.num_levels} level(s)>"
+        try:
+            return f"<ffdtool.{type(self).__name__} {self.kind}, {self.num_points()} points, {self.num_levels} level(s)>"
+        except Error as e:
+            return f"<ffdtool.{type(self).__name__}: {e.message}>"
 
 
 class BSplineLattice(Deformer):
@@ -184,9 +188,9 @@ class IDW(Deformer):
 
 
 class Cage(Deformer):
-    """A mean-value-coordinates cage: `cage` is a closed, consistently oriented mesh file;
-    its vertices are the control points. `mesh` (a Mesh or (n, 3) points, optional) is
-    what the cage is bound to first."""
+    """A mean-value-coordinates cage: `cage` is a closed, consistently oriented mesh file
+    (relative paths from the current folder); its vertices are the control points,
+    numbered as in the file. Points are evaluated afresh at every call (no binding)."""
 
-    def __init__(self, cage, mesh=None, coordinates="mean_value"):
-        super().__init__("cage", mesh, "Cage", cage=_os.fspath(cage), coordinates=coordinates)
+    def __init__(self, cage, coordinates="mean_value"):
+        super().__init__("cage", None, "Cage", cage=_os.fspath(cage), coordinates=coordinates)

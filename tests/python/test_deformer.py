@@ -246,6 +246,18 @@ def test_one_and_two_threads_give_the_same_bytes(kinds, bunny):
 
 
 def test_deformer_errors_name_the_keyword():
+    sphere = {"sphere": {"center": [0, 0, 0], "radius": 1}}
+    with pytest.raises(ffdtool.InputError, match="not bcm") as e:
+        ffdtool.Deformer("bcm", None, "Deformer", support=sphere, handles=[{"name": "h", "select": sphere}])
+    tb = e.value.__traceback__
+    while tb.tb_next:
+        tb = tb.tb_next
+    unmade = tb.tb_frame.f_locals["self"]  # what a traceback still reaches
+    with pytest.raises(ffdtool.InputError, match="never made"):
+        unmade.points()
+    with pytest.raises(ffdtool.InputError, match="never made"):
+        unmade(np.zeros((1, 3)))
+    assert "never made" in repr(unmade)
     with pytest.raises(ffdtool.InputError) as e:
         ffdtool.BSplineLattice(None, cells=[2, 4, 4], box=BOX)
     assert e.value.place == "BSplineLattice: /cells/0"
