@@ -17,7 +17,7 @@ bool is_integer(const pb::handle& h) { return PyIndex_Check(h.ptr()) && !PySeque
 
 // One script-style point index: an integer n, or [i, j, k] (any sequence of three
 // integers). \throw InputError at `at` for anything else.
-PointIndex point_index(const pb::handle& item, const At& at) {
+PointIndex point_index(const pb::handle& item, const At& at) try {
   PointIndex index;
   if (is_integer(item)) {
     index.grid = false;
@@ -33,6 +33,8 @@ PointIndex point_index(const pb::handle& item, const At& at) {
     }
   if (!integers || a != 3) throw InputError(at, "a point index is an integer n or a lattice index [i, j, k]");
   return index;
+} catch (const pb::cast_error&) {
+  throw InputError(at, "a point index is out of range");
 }
 
 // `index` as a list: one index (n, or [i, j, k] on a grid), or a sequence of them.
