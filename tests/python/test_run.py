@@ -181,3 +181,19 @@ def test_a_scene_with_normals_and_uvs_is_written_as_the_cli_writes_it(data, tmp_
     if source.endswith(".obj"):
         read = ffdtool.read(mesh)
         assert read.uvs is not None and read.corner_uvs is not None and len(read.corner_uvs) == read.faces.size
+
+
+@pytest.mark.parametrize("kind", ["bspline", "bernstein", "octree"])
+def test_cgals_elephant_gives_the_cli_bytes(data, cgal_mesh, tmp_path, run_cli, kind):
+    """The seam's elephant scripts (move, drag, control nets) on CGAL's elephant.off."""
+    mesh = cgal_mesh("elephant.off")
+    script_path = os.path.join(data, "seam", f"elephant_{kind}.json")
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    assert run_cli("run", mesh, script_path, "-o", tmp_path / "cli" / "out.off", "--quiet").returncode == 0
+    out, _ = ffdtool.run(mesh, script_path, save_folder=tmp_path / "py")
+    out.write(tmp_path / "py" / "out.off")
+    names = sorted(p.name for p in (tmp_path / "cli").iterdir())
+    assert names == sorted(p.name for p in (tmp_path / "py").iterdir()) and len(names) > 1
+    for name in names:
+        assert filecmp.cmp(tmp_path / "cli" / name, tmp_path / "py" / name, shallow=False), name
