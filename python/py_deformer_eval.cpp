@@ -2,10 +2,13 @@
 // sensitivities dx/dp of a mesh's vertices (warp/sensitivity.h, with no warp after it).
 #include <pybind11/stl.h>
 
+#include <algorithm>
+
 #include "common/errors.h"
 #include "py_arrays.h"
 #include "py_deformer.h"
 #include "py_mesh.h"
+#include "warp/sensitivity.h"
 #include "warp/warp_points.h"
 
 namespace ffd::py {
@@ -24,11 +27,11 @@ pb::tuple csr_tuple(const Csr& m, std::size_t rows, std::size_t cols) {
                         int_array(m.indptr, {static_cast<pb::ssize_t>(m.indptr.size())}), pb::make_tuple(rows, cols));
 }
 
-// Each point's weights at `level` (movable points only, ids ascending), computed in
-// parallel, one row per point.
+// Each point's weights at `level` (movable points only, ids ascending), one row per point.
+// Serial, as the library's sensitivity writer gathers: a deformer's weights may fill
+// caches (an octree level is subdivided at its first use).
 std::vector<PointWeights> weight_rows(const Deformer& d, int level, const Eigen::Ref<const Eigen::Matrix3Xd>& x) {
   std::vector<PointWeights> rows(static_cast<std::size_t>(x.cols()));
-#pragma omp parallel for schedule(dynamic, 256)
   for (Eigen::Index i = 0; i < x.cols(); ++i) d.movable_weights(level, x.col(i), rows[static_cast<std::size_t>(i)]);
   return rows;
 }
@@ -87,17 +90,15 @@ pb::tuple weights(PyDeformer& d, const Float64Array& points, std::optional<int> 
 // blocks (what `save`'s sensitivity writes for a deformer with no warp after it).
 Csr sensitivity_matrix(const Deformer& d, int level, const Eigen::Ref<const Eigen::Matrix3Xd>& x,
                        std::size_t& columns) {
-  std::vector<std::int64_t> column_of(d.num_points(level), -1);
-  std::int64_t movable = 0;
-  for (std::size_t id = 0; id < column_of.size(); ++id)
-    if (d.point_movable(level, id)) column_of[id] = movable++;
-  columns = 3 * static_cast<std::size_t>(movable);
+  const std::vector<std::uint32_t> column_of = movable_columns(d, level);
+  columns = 3 * static_cast<std::size_t>(std::count_if(column_of.begin(), column_of.end(),
+                                                       [](std::uint32_t c) { return c != kFixedPoint; }));
   Csr m;
   for (const PointWeights& row : weight_rows(d, level, x))
     for (std::int64_t a = 0; a < 3; ++a) {
       for (const auto& [id, w] : row) {
-        if (w == 0.0 || column_of[id] < 0) continue;
-        m.indices.push_back(3 * column_of[id] + a);
+        if (w == 0.0 || column_of[id] == kFixedPoint) continue;
+        m.indices.push_back(3 * std::int64_t{column_of[id]} + a);
         m.data.push_back(w);
       }
       m.indptr.push_back(static_cast<std::int64_t>(m.indices.size()));

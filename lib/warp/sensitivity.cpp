@@ -8,7 +8,6 @@
 namespace ffd {
 namespace {
 
-constexpr std::uint32_t kNone = UINT32_MAX;
 constexpr std::size_t kBatch = 1 << 13;  // vertices whose rows are gathered (and texts held) at once
 constexpr std::size_t kChunk = 1 << 9;   // vertices formatted by one thread
 
@@ -17,7 +16,7 @@ constexpr std::size_t kChunk = 1 << 9;   // vertices formatted by one thread
 struct Source {
   const Deformer& deformer;
   int level;
-  std::vector<std::uint32_t> column;  // point id -> m, kNone for a fixed point
+  std::vector<std::uint32_t> column;  // point id -> m, kFixedPoint for a fixed point
   ConstVec3Array input;         // the deformer's input positions
   std::vector<const Warp*> after;
   std::vector<ConstVec3Array> after_input;
@@ -104,10 +103,9 @@ Source make_source(const WarpStack& stack, std::size_t k, const Deformer& deform
   const auto input_of = [&](std::size_t j) {
     return j == 0 ? mesh.rest_positions() : mesh.vec3_attribute(WarpStack::input_attribute(j));
   };
-  Source s{deformer, level, std::vector<std::uint32_t>(deformer.num_points(level), kNone), input_of(k), {}, {}};
-  points = 0;
-  for (std::size_t id = 0; id < s.column.size(); ++id)
-    if (deformer.point_movable(level, id)) s.column[id] = static_cast<std::uint32_t>(points++);
+  Source s{deformer, level, movable_columns(deformer, level), input_of(k), {}, {}};
+  points = static_cast<std::size_t>(std::count_if(s.column.begin(), s.column.end(),
+                                                   [](std::uint32_t c) { return c != kFixedPoint; }));
   for (std::size_t j = k + 1; j < stack.size(); ++j) {
     s.after.push_back(&stack.warp(j));
     s.after_input.push_back(input_of(j));
@@ -120,7 +118,7 @@ void write_header(std::ostream& os, const Source& s, const SensitivityCounts& co
         "% dx/dp: row 3*v + axis + 1 for vertex v, column 3*m + axis + 1 for movable point m (axis 0-2: x, y, z)\n";
   std::string line;
   for (std::size_t id = 0; id < s.column.size(); ++id) {
-    if (s.column[id] == kNone) continue;
+    if (s.column[id] == kFixedPoint) continue;
     const PointIndex index = s.deformer.point_index(s.level, id);
     line = "% point " + std::to_string(s.column[id]) + " index ";
     line += index.grid ? std::to_string(index.ijk[0]) + " " + std::to_string(index.ijk[1]) + " " +
@@ -132,6 +130,14 @@ void write_header(std::ostream& os, const Source& s, const SensitivityCounts& co
 }
 
 }  // namespace
+
+std::vector<std::uint32_t> movable_columns(const Deformer& deformer, int level) {
+  std::vector<std::uint32_t> column(deformer.num_points(level), kFixedPoint);
+  std::uint32_t m = 0;
+  for (std::size_t id = 0; id < column.size(); ++id)
+    if (deformer.point_movable(level, id)) column[id] = m++;
+  return column;
+}
 
 SensitivityCounts write_sensitivity(std::ostream& os, const WarpStack& stack, std::size_t k,
                                     const Deformer& deformer, int level, const Mesh& mesh) {

@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <ostream>
+#include <vector>
 
 #include "mesh/mesh.h"
 #include "warp/deformer.h"
@@ -29,6 +30,13 @@ struct SensitivityCounts {
   std::size_t points = 0;   // movable points of the level
   std::size_t entries = 0;  // non-zero entries written
 };
+
+/// A fixed point's entry in movable_columns().
+inline constexpr std::uint32_t kFixedPoint = UINT32_MAX;
+
+/// Each of the level's points' column block in dx/dp: m for the m-th movable point in net
+/// order (its columns are 3 m + axis), kFixedPoint for a point that cannot move.
+std::vector<std::uint32_t> movable_columns(const Deformer& deformer, int level);
 
 /// Writes dx/dp for the deformer at position `k` of `stack` (`deformer`, the same object)
 /// and its level `level` as a Matrix Market coordinate real general matrix: row 3·v + axis
