@@ -84,21 +84,13 @@ pb::object faces(const PyMesh& self) {
                         int_array(indices, {static_cast<pb::ssize_t>(indices.size())}));
 }
 
-pb::object uvs(const PyMesh& self) {
-  const Mesh& mesh = self.scene->mesh;
-  if (!mesh.has_uvs()) return pb::none();
-  pb::array_t<double> out({static_cast<pb::ssize_t>(mesh.uvs().size()), pb::ssize_t{2}});
-  for (std::size_t i = 0; i < mesh.uvs().size(); ++i)
-    for (int a = 0; a < 2; ++a) out.mutable_at(i, a) = mesh.uvs()[i][a];
-  return out;
-}
-
-pb::object colors(const PyMesh& self) {
-  const Mesh& mesh = self.scene->mesh;
-  if (!mesh.has_colors()) return pb::none();
-  pb::array_t<float> out({static_cast<pb::ssize_t>(mesh.colors().size()), pb::ssize_t{3}});
-  for (std::size_t i = 0; i < mesh.colors().size(); ++i)
-    for (int a = 0; a < 3; ++a) out.mutable_at(i, a) = mesh.colors()[i][a];
+// A table of fixed-size Eigen vectors (UVs, colours) as an (n, size) array, or None when empty.
+template <class V>
+pb::object table_array(const std::vector<V>& table) {
+  if (table.empty()) return pb::none();
+  pb::array_t<typename V::Scalar> out({static_cast<pb::ssize_t>(table.size()), static_cast<pb::ssize_t>(V::SizeAtCompileTime)});
+  for (std::size_t i = 0; i < table.size(); ++i)
+    for (int a = 0; a < V::SizeAtCompileTime; ++a) out.mutable_at(i, a) = table[i][a];
   return out;
 }
 
@@ -149,12 +141,15 @@ void bind_mesh(pb::module_& m) {
       .def_property_readonly("faces", &faces,
                              "The polygons: an (m, k) int64 array when every polygon has k corners, else a tuple "
                              "(offsets (m + 1,), indices): polygon f is indices[offsets[f]:offsets[f + 1]].")
-      .def_property_readonly("uvs", &uvs, "(t, 2) float64 texture coordinates (the file's table), or None.")
+      .def_property_readonly(
+          "uvs", [](const PyMesh& s) { return table_array(s.scene->mesh.uvs()); },
+          "(t, 2) float64 texture coordinates (the file's table), or None.")
       .def_property_readonly(
           "corner_uvs", [](const PyMesh& s) { return corner_indices(s.scene->mesh.elements().corner_uvs); },
           "Per element corner, in element order, its row of uvs (-1: none), or None.")
       .def_property_readonly(
-          "colors", &colors, "(n, 3) float32 vertex colours in [0, 1] (a copy), or None.")
+          "colors", [](const PyMesh& s) { return table_array(s.scene->mesh.colors()); },
+          "(n, 3) float32 vertex colours in [0, 1] (a copy), or None.")
       .def_property_readonly("num_vertices", [](const PyMesh& s) { return s.scene->mesh.num_vertices(); },
                              "The number of vertices (rows of vertices).")
       .def_property_readonly("num_faces", [](const PyMesh& s) { return s.scene->mesh.num_faces(); },

@@ -87,3 +87,16 @@ def test_a_cgal_mesh_round_trips_exactly(cgal_mesh, tmp_path):
     assert mesh.num_vertices > 1000 and repr(mesh).startswith("<ffdtool.Mesh")
     mesh.write(tmp_path / "elephant.obj")
     assert np.array_equal(ffdtool.read(tmp_path / "elephant.obj").vertices, mesh.vertices)
+
+
+def test_colours_and_uvs_are_the_files(tmp_path, data):
+    coff = tmp_path / "c.off"
+    coff.write_text("COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n3 0 1 2\n")
+    colors = ffdtool.read(coff).colors
+    assert colors.dtype == np.float32 and np.array_equal(colors, np.eye(3, dtype=np.float32))
+    assert ffdtool.read(coff).uvs is None
+    obj = tmp_path / "t.obj"
+    obj.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.5\nvt 1 0\nf 1/1 2/2 3/1\n")
+    mesh = ffdtool.read(obj)
+    assert np.array_equal(mesh.uvs, [[0.25, 0.5], [1, 0]]) and list(mesh.corner_uvs) == [0, 1, 0]
+    assert mesh.colors is None
