@@ -16,8 +16,8 @@
 // --quick: 10x fewer points and a 100k-vertex sphere.
 #include <omp.h>
 
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <random>
