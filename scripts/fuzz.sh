@@ -18,7 +18,7 @@ for p in clang libclang-rt-dev libomp-dev; do
 done
 if [ ! -f build-fuzz/build.ninja ]; then
   CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFFD_FUZZ=ON \
-    -DFFD_BUILD_TESTS=OFF -DFFD_BUILD_BENCH=OFF -DFFD_NATIVE=OFF
+    -DFFD_BUILD_TESTS=OFF -DFFD_BUILD_BENCH=OFF -DFFD_ARCH=
 fi
 cmake --build build-fuzz --target $(printf 'fuzz_%s ' "${targets[@]}")
 status=0

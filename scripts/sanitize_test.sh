@@ -3,24 +3,25 @@
 # -DFFD_SANITIZE=ON) into build-asan/ and runs the whole ctest suite under them. The CLI
 # tests spawn the sanitized ffdtool of the same build, so its runs are checked too. No
 # benchmarks. Any sanitizer report, a leak included, fails the test it happened in.
-# FFD_NATIVE=OFF: at -O1, GCC 12 warns about its own AVX-512 headers; the sanitizers
+# FFD_ARCH empty (the compiler's default x86-64, no AVX, no FMA): the portable build,
+# whose kernels KernelPortability compares with the x86-64-v3 build's; the sanitizers
 # check the same code either way.
 # gcc's runtimes (libasan, libubsan, liblsan) come with build-essential (scripts/setup.sh).
-# Run scripts/test.sh first: its native build's kernel outputs are the reference here.
+# Run scripts/test.sh first: its default build's kernel outputs are the reference here.
 # Usage: scripts/sanitize_test.sh [CTEST ARGS...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir="${FFD_ASAN_BUILD_DIR:-build-asan}"
 jobs="${FFD_JOBS:-$(nproc)}"
 scripts/setup.sh
-# The portable build's lattice kernels are compared with the native build's (build/,
+# The portable build's lattice kernels are compared with the default build's (build/,
 # written by scripts/test.sh): KernelPortability in tests/kernel_portability_test.cpp.
 reference="$PWD/${FFD_BUILD_DIR:-build}/kernel_outputs.bin"
 if [ ! -f "$build_dir/build.ninja" ]; then
   cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DFFD_SANITIZE=ON \
-    -DFFD_BUILD_TESTS=ON -DFFD_BUILD_BENCH=OFF -DFFD_NATIVE=OFF -DFFD_KERNEL_REFERENCE="$reference"
+    -DFFD_BUILD_TESTS=ON -DFFD_BUILD_BENCH=OFF -DFFD_ARCH= -DFFD_KERNEL_REFERENCE="$reference"
 else
-  cmake "$build_dir" -DFFD_KERNEL_REFERENCE="$reference" >/dev/null
+  cmake "$build_dir" -DFFD_ARCH= -DFFD_KERNEL_REFERENCE="$reference" >/dev/null
 fi
 cmake --build "$build_dir" -j "$jobs"
 # halt_on_error: the first report ends the process (UBSan's too: -fno-sanitize-recover).

@@ -135,7 +135,7 @@ private:
   // agree to 32 bits of mantissa (1 part in 4e9) tie, and the lowest edge index goes
   // first. Comparing exact lengths would let the last bits decide between mirror-image
   // edges, and those differ between builds that contract floating point differently
-  // (FFD_NATIVE=OFF has no FMA): the same surface, with its new vertices numbered apart.
+  // (an empty FFD_ARCH has no FMA): the same surface, with its new vertices numbered apart.
   struct HeapEntry {
     double key;  // the length with its low 20 mantissa bits cleared
     double len;

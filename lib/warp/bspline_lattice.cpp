@@ -158,7 +158,7 @@ void BSplineLattice::refresh_blocks() const {
 namespace {
 
 // Eight doubles, one per vertex: the lanes of the evaluation (GCC vector extension: one
-// AVX-512 register with -march=native on an AVX-512 CPU, AVX or SSE2 pieces elsewhere).
+// AVX-512 register with FFD_ARCH=native on an AVX-512 CPU, AVX or SSE2 pieces elsewhere).
 // Every lane does exactly the arithmetic of its vertex alone, so no result depends on
 // which vertices share a register, on the order of the ids or on the thread count.
 constexpr int kLanes = 8;
