@@ -4,7 +4,7 @@
 # tests spawn the sanitized ffdtool of the same build, so its runs are checked too. No
 # benchmarks. Any sanitizer report, a leak included, fails the test it happened in.
 # FFD_ARCH empty (the compiler's default x86-64, no AVX, no FMA): the portable build,
-# whose kernels KernelPortability compares with the x86-64-v3 build's; the sanitizers
+# whose kernels KernelPortability compares with the default build's; the sanitizers
 # check the same code either way.
 # gcc's runtimes (libasan, libubsan, liblsan) come with build-essential (scripts/setup.sh).
 # Run scripts/test.sh first: its default build's kernel outputs are the reference here.

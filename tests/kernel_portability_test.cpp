@@ -1,6 +1,6 @@
 // The lattice kernels and vertex normals of this build against those of another: the
 // portable build (FFD_ARCH empty: no AVX, no FMA contraction, SLEEF's two-lane atan2)
-// must agree with the default one (-march=x86-64-v3: AVX2 lanes, FMA, four lanes) to
+// must agree with the default one (FFD_ARCH=native: AVX-512 or AVX2 lanes, FMA) to
 // 1e-12 of the box size. Every build writes its outputs to kernel_outputs.bin in its
 // build folder; a build configured with -DFFD_KERNEL_REFERENCE=<another build's file>
 // (scripts/sanitize_test.sh: the sanitizers' portable build against build/) compares.

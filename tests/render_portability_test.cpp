@@ -1,5 +1,5 @@
 // The renderer's pictures of this build against another's: the portable build (clang, no
-// AVX, no FMA) must draw the same bytes as the default one (GCC, -march=x86-64-v3), which is
+// AVX, no FMA) must draw the same bytes as the default one (GCC, FFD_ARCH=native), which is
 // what "the same picture on every machine" rests on. Every build writes its pictures to
 // render_outputs.bin in its build folder; a build configured with a reference build
 // (FFD_KERNEL_REFERENCE, scripts/sanitize_test.sh) compares its own with that folder's.
