@@ -45,77 +45,6 @@ void BernsteinLattice::axis_weights(int axis, double u, int& first, double* w, d
 }  // namespace ffd
 
 namespace ffd {
-namespace {
-typedef double v4d __attribute__((vector_size(32)));
-}  // namespace
-
-void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                             const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
-                             const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
-                             Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const {
-  const int n0 = cells_[0] + 1, n1 = cells_[1] + 1, n2 = cells_[2] + 1;
-  if (packed_stale_) {
-    packed_.assign(4 * displacement_.size(), 0.0);
-    for (int i = 0; i < n0; ++i)
-      for (int j = 0; j < n1; ++j)
-        for (int k = 0; k < n2; ++k) {
-          const Eigen::Vector3d& d = displacement_[flat({i, j, k})];
-          double* slot = packed_.data() + 4 * ((static_cast<std::size_t>(i) * n1 + j) * n2 + k);
-          slot[0] = d[0];
-          slot[1] = d[1];
-          slot[2] = d[2];
-        }
-    packed_stale_ = false;
-  }
-  const v4d* P = reinterpret_cast<const v4d*>(packed_.data());
-  const Eigen::Matrix3d& inv = box_.inverse_axes();
-  const Eigen::Vector3d& origin = box_.origin();
-  std::size_t folded = 0, evaluated = 0;
-  const std::ptrdiff_t n_ids = static_cast<std::ptrdiff_t>(ids.size());
-#pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
-  for (std::ptrdiff_t t = 0; t < n_ids; ++t) {
-    const std::uint32_t v = ids[t];
-    const Eigen::Vector3d x = in_pos.col(v);
-    const Eigen::Vector3d u = inv * (x - origin);
-    if (!inside(u)) {
-      out_pos.col(v) = x;
-      out_nrm.col(v) = in_nrm.col(v);
-      continue;
-    }
-    ++evaluated;
-    double w[3][kMaxDegree + 1], dw[3][kMaxDegree + 1];
-    int first;
-    for (int a = 0; a < 3; ++a) axis_weights(a, u[a], first, w[a], dw[a]);
-    // Sederberg & Parry's triple sum, contracted one axis at a time (w, then v, then u).
-    v4d value{0, 0, 0, 0}, du{0, 0, 0, 0}, dv{0, 0, 0, 0}, dwv{0, 0, 0, 0};
-    for (int i = 0; i < n0; ++i) {
-      v4d si{0, 0, 0, 0}, si_v{0, 0, 0, 0}, si_w{0, 0, 0, 0};
-      for (int j = 0; j < n1; ++j) {
-        const v4d* row = P + (static_cast<std::size_t>(i) * n1 + j) * n2;
-        v4d sj{0, 0, 0, 0}, sj_w{0, 0, 0, 0};
-        for (int k = 0; k < n2; ++k) {
-          sj += w[2][k] * row[k];
-          sj_w += dw[2][k] * row[k];
-        }
-        si += w[1][j] * sj;
-        si_v += dw[1][j] * sj;
-        si_w += w[1][j] * sj_w;
-      }
-      value += w[0][i] * si;
-      du += dw[0][i] * si;
-      dv += w[0][i] * si_v;
-      dwv += w[0][i] * si_w;
-    }
-    out_pos.col(v) = x + Eigen::Vector3d(value[0], value[1], value[2]);
-    Eigen::Matrix3d G;  // columns: dD/du, dD/dv, dD/dw in box coordinates
-    G << du[0], dv[0], dwv[0], du[1], dv[1], dwv[1], du[2], dv[2], dwv[2];
-    const Eigen::Matrix3d J = Eigen::Matrix3d::Identity() + G * inv;
-    out_nrm.col(v) = transformed_normal(J, in_nrm.col(v));
-    if (J.determinant() <= 0) ++folded;
-  }
-  counts.evaluated += evaluated;
-  counts.folded += folded;
-}
 
 namespace {
 
@@ -171,10 +100,93 @@ void contract_block(const int* n, const double* D, const Block* const* w, Block 
   }
 }
 
+// B_i^n and dB_i^n/du at each lane's u, as axis_weights() computes them one point at a
+// time: d/du B_i^n = n (B_{i-1}^{n-1} - B_i^{n-1}).
+void bernstein_derivative_block(int n, const Block& u, Block* w, Block* dw) {
+  constexpr int L = BernsteinLattice::kBlock;
+  bernstein_block(n, u, w);
+  Block lower[BernsteinLattice::kMaxDegree + 1];
+  bernstein_block(n - 1, u, lower);
+  for (int i = 0; i <= n; ++i) {
+#pragma omp simd
+    for (int l = 0; l < L; ++l) {
+      const double left = i > 0 ? lower[i - 1][l] : 0.0;
+      const double right = i < n ? lower[i][l] : 0.0;
+      dw[i][l] = n * (left - right);
+    }
+  }
+}
+
+// The displacement and its derivatives along the box's axes u, v, w per lane and
+// coordinate.
+struct BlockSums {
+  Block value[3], du[3], dv[3], dw[3];
+};
+
+// contract_block with the three derivatives: the same sums over k, then j, then i, with
+// one axis's basis replaced by its derivative, in the order the derivatives share partial
+// sums (sum_k B_k(w) D and sum_k B_k'(w) D, then over j, then over i).
+void contract_jacobian_block(const int* n, const double* D, const Block* const* w, const Block* const* dw,
+                             BlockSums& out) {
+  constexpr int L = BernsteinLattice::kBlock;
+  out = BlockSums{};
+  for (int i = 0; i <= n[0]; ++i) {
+    Block si[3] = {}, si_v[3] = {}, si_w[3] = {};
+    for (int j = 0; j <= n[1]; ++j) {
+      const double* row = D + 3 * (static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1);
+      Block sj[3] = {}, sj_w[3] = {};
+      for (int k = 0; k <= n[2]; ++k)
+        for (int c = 0; c < 3; ++c) {
+          const double d = row[3 * k + c];
+#pragma omp simd
+          for (int l = 0; l < L; ++l) {
+            sj[c][l] += w[2][k][l] * d;
+            sj_w[c][l] += dw[2][k][l] * d;
+          }
+        }
+      for (int c = 0; c < 3; ++c) {
+#pragma omp simd
+        for (int l = 0; l < L; ++l) {
+          si[c][l] += w[1][j][l] * sj[c][l];
+          si_v[c][l] += dw[1][j][l] * sj[c][l];
+          si_w[c][l] += w[1][j][l] * sj_w[c][l];
+        }
+      }
+    }
+    for (int c = 0; c < 3; ++c) {
+#pragma omp simd
+      for (int l = 0; l < L; ++l) {
+        out.value[c][l] += w[0][i][l] * si[c][l];
+        out.du[c][l] += dw[0][i][l] * si[c][l];
+        out.dv[c][l] += w[0][i][l] * si_v[c][l];
+        out.dw[c][l] += w[0][i][l] * si_w[c][l];
+      }
+    }
+  }
+}
+
+// A block's points: box coordinates per axis and lane, whether each lies in the box, and
+// how many lanes are real (lanes past the end repeat the block's first point).
+struct BlockPoints {
+  Block u[3];
+  bool in[BernsteinLattice::kBlock];
+  int lanes = 0;
+};
+
+void load_block(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
+                std::size_t first, const Parallelepiped& box, BlockPoints& p) {
+  constexpr int L = BernsteinLattice::kBlock;
+  p.lanes = static_cast<int>(std::min<std::size_t>(L, ids.size() - first));
+  for (int l = 0; l < L; ++l) {
+    const Eigen::Vector3d local = box.inverse_axes() * (in_pos.col(ids[first + (l < p.lanes ? l : 0)]) - box.origin());
+    p.in[l] = Lattice::inside(local);
+    for (int a = 0; a < 3; ++a) p.u[a][l] = local[a];
+  }
+}
+
 }  // namespace
 
-void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                                       const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos) const {
+std::vector<double> BernsteinLattice::packed_displacements() const {
   const int n[3] = {cells_[0], cells_[1], cells_[2]};
   std::vector<double> D(3 * displacement_.size());  // [i][j][k][x, y, z]
   for (int i = 0; i <= n[0]; ++i)
@@ -183,28 +195,67 @@ void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>&
         const std::size_t slot = (static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1) + k;
         for (int c = 0; c < 3; ++c) D[3 * slot + c] = displacement_[flat({i, j, k})][c];
       }
+  return D;
+}
+
+void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                             const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
+                             const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                             Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const {
+  const int n[3] = {cells_[0], cells_[1], cells_[2]};
+  const std::vector<double> D = packed_displacements();
   const Eigen::Matrix3d& inv = box_.inverse_axes();
-  const Eigen::Vector3d& origin = box_.origin();
+  std::size_t folded = 0, evaluated = 0;
+  const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + kBlock - 1) / kBlock);
+#pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
+  for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+    const std::size_t first = static_cast<std::size_t>(b) * kBlock;
+    BlockPoints p;
+    load_block(in_pos, ids, first, box_, p);
+    Block w[3][kMaxDegree + 1], dw[3][kMaxDegree + 1];
+    for (int a = 0; a < 3; ++a) bernstein_derivative_block(n[a], p.u[a], w[a], dw[a]);
+    const Block* const axes[3] = {w[0], w[1], w[2]};
+    const Block* const slopes[3] = {dw[0], dw[1], dw[2]};
+    BlockSums s;
+    contract_jacobian_block(n, D.data(), axes, slopes, s);
+    for (int l = 0; l < p.lanes; ++l) {
+      const std::uint32_t v = ids[first + l];
+      if (!p.in[l]) {
+        out_pos.col(v) = in_pos.col(v);
+        out_nrm.col(v) = in_nrm.col(v);
+        continue;
+      }
+      ++evaluated;
+      out_pos.col(v) = in_pos.col(v) + Eigen::Vector3d(s.value[0][l], s.value[1][l], s.value[2][l]);
+      Eigen::Matrix3d G;  // columns: dD/du, dD/dv, dD/dw in box coordinates
+      G << s.du[0][l], s.dv[0][l], s.dw[0][l], s.du[1][l], s.dv[1][l], s.dw[1][l], s.du[2][l], s.dv[2][l], s.dw[2][l];
+      const Eigen::Matrix3d J = Eigen::Matrix3d::Identity() + G * inv;
+      out_nrm.col(v) = transformed_normal(J, in_nrm.col(v));
+      if (J.determinant() <= 0) ++folded;
+    }
+  }
+  counts.evaluated += evaluated;
+  counts.folded += folded;
+}
+
+void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                       const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos) const {
+  const int n[3] = {cells_[0], cells_[1], cells_[2]};
+  const std::vector<double> D = packed_displacements();
   const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + kBlock - 1) / kBlock);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t first = static_cast<std::size_t>(b) * kBlock;
-    const int lanes = static_cast<int>(std::min<std::size_t>(kBlock, ids.size() - first));
-    Block u[3];
-    bool in[kBlock];
-    for (int l = 0; l < kBlock; ++l) {  // lanes past the end repeat the block's first point
-      const Eigen::Vector3d local = inv * (in_pos.col(ids[first + (l < lanes ? l : 0)]) - origin);
-      in[l] = inside(local);
-      for (int a = 0; a < 3; ++a) u[a][l] = local[a];
-    }
+    BlockPoints p;
+    load_block(in_pos, ids, first, box_, p);
     Block w[3][kMaxDegree + 1];
-    for (int a = 0; a < 3; ++a) bernstein_block(n[a], u[a], w[a]);
+    for (int a = 0; a < 3; ++a) bernstein_block(n[a], p.u[a], w[a]);
     const Block* const axes[3] = {w[0], w[1], w[2]};
     Block acc[3];
     contract_block(n, D.data(), axes, acc);
-    for (int l = 0; l < lanes; ++l) {
+    for (int l = 0; l < p.lanes; ++l) {
       const std::uint32_t v = ids[first + l];
-      for (int c = 0; c < 3; ++c) out_pos(c, v) = in[l] ? in_pos(c, v) + acc[c][l] : in_pos(c, v);
+      for (int c = 0; c < 3; ++c) out_pos(c, v) = p.in[l] ? in_pos(c, v) + acc[c][l] : in_pos(c, v);
     }
   }
 }

@@ -10,8 +10,6 @@
 //   and the run warns).
 #pragma once
 
-#include <Eigen/StdVector>
-
 #include "warp/lattice.h"
 
 namespace ffd {
@@ -36,8 +34,10 @@ public:
   /// Bernstein polynomials B_i^n(u), i = 0..n, by de Casteljau's recurrence (stable).
   static void bernstein(int n, double u, double* out);
 
-  /// Batch evaluation: per vertex, Bernstein weights per axis and a factorized tensor
-  /// contraction with the three coordinates in one SIMD register.
+  /// Batch evaluation, positions and normals: blocks of kBlock vertices, the Bernstein
+  /// values and derivatives of each axis once per vertex, and the contraction and its three
+  /// derivatives coordinate by coordinate across the block's vertices (vectorized), summed
+  /// over k, then j, then i for every vertex whatever the block.
   void apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
              const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm, const std::vector<std::uint32_t>& ids,
              Eigen::Ref<Eigen::Matrix3Xd> out_pos, Eigen::Ref<Eigen::Matrix3Xd> out_nrm,
@@ -54,12 +54,10 @@ public:
 protected:
   double node(int axis, int i) const override { return static_cast<double>(i) / cells_[axis]; }
   void pieces_of_point(int axis, int i, int& lo, int& hi) const override { lo = hi = 0; }
-  void piece_changed(std::size_t) override { packed_stale_ = true; }
 
 private:
-  // Displacements as [i][j][k][x, y, z, 0], refreshed lazily after moves.
-  mutable std::vector<double, Eigen::aligned_allocator<double>> packed_;
-  mutable bool packed_stale_ = true;
+  /// The displacements as [i][j][k][x, y, z], the kernels' order.
+  std::vector<double> packed_displacements() const;
 };
 
 }  // namespace ffd
