@@ -48,12 +48,17 @@ namespace ffd {
 
 namespace {
 
-using Block = double[BernsteinLattice::kBlock];
+template <int L>
+using Lanes = double[L];
+using Block = Lanes<BernsteinLattice::kBlock>;
+// The Jacobian kernel's block: its dozen partial sums per coordinate fit in registers at
+// 8 lanes (one AVX-512 register each), where 16 lanes spill them and zero them in memory.
+constexpr int kJacobianLanes = 8;
 
 // B_i^n at each lane's u, out[i][lane], by bernstein()'s recurrence. Every loop over the
 // lanes is `omp simd`: left alone, GCC unrolls the lanes and vectorizes the loop over k.
-void bernstein_block(int n, const Block& u, Block* out) {
-  constexpr int L = BernsteinLattice::kBlock;
+template <int L>
+void bernstein_block(int n, const Lanes<L>& u, Lanes<L>* out) {
 #pragma omp simd
   for (int l = 0; l < L; ++l) out[0][l] = 1;
   for (int d = 1; d <= n; ++d) {
@@ -102,11 +107,11 @@ void contract_block(const int* n, const double* D, const Block* const* w, Block 
 
 // B_i^n and dB_i^n/du at each lane's u, as axis_weights() computes them one point at a
 // time: d/du B_i^n = n (B_{i-1}^{n-1} - B_i^{n-1}).
-void bernstein_derivative_block(int n, const Block& u, Block* w, Block* dw) {
-  constexpr int L = BernsteinLattice::kBlock;
-  bernstein_block(n, u, w);
-  Block lower[BernsteinLattice::kMaxDegree + 1];
-  bernstein_block(n - 1, u, lower);
+template <int L>
+void bernstein_derivative_block(int n, const Lanes<L>& u, Lanes<L>* w, Lanes<L>* dw) {
+  bernstein_block<L>(n, u, w);
+  Lanes<L> lower[BernsteinLattice::kMaxDegree + 1];
+  bernstein_block<L>(n - 1, u, lower);
   for (int i = 0; i <= n; ++i) {
 #pragma omp simd
     for (int l = 0; l < L; ++l) {
@@ -119,22 +124,23 @@ void bernstein_derivative_block(int n, const Block& u, Block* w, Block* dw) {
 
 // The displacement and its derivatives along the box's axes u, v, w per lane and
 // coordinate.
+template <int L>
 struct BlockSums {
-  Block value[3], du[3], dv[3], dw[3];
+  Lanes<L> value[3], du[3], dv[3], dw[3];
 };
 
 // contract_block with the three derivatives: the same sums over k, then j, then i, with
 // one axis's basis replaced by its derivative, in the order the derivatives share partial
 // sums (sum_k B_k(w) D and sum_k B_k'(w) D, then over j, then over i).
-void contract_jacobian_block(const int* n, const double* D, const Block* const* w, const Block* const* dw,
-                             BlockSums& out) {
-  constexpr int L = BernsteinLattice::kBlock;
-  out = BlockSums{};
+template <int L>
+void contract_jacobian_block(const int* n, const double* D, const Lanes<L>* const* w, const Lanes<L>* const* dw,
+                             BlockSums<L>& out) {
+  out = BlockSums<L>{};
   for (int i = 0; i <= n[0]; ++i) {
-    Block si[3] = {}, si_v[3] = {}, si_w[3] = {};
+    Lanes<L> si[3] = {}, si_v[3] = {}, si_w[3] = {};
     for (int j = 0; j <= n[1]; ++j) {
       const double* row = D + 3 * (static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1);
-      Block sj[3] = {}, sj_w[3] = {};
+      Lanes<L> sj[3] = {}, sj_w[3] = {};
       for (int k = 0; k <= n[2]; ++k)
         for (int c = 0; c < 3; ++c) {
           const double d = row[3 * k + c];
@@ -167,15 +173,16 @@ void contract_jacobian_block(const int* n, const double* D, const Block* const* 
 
 // A block's points: box coordinates per axis and lane, whether each lies in the box, and
 // how many lanes are real (lanes past the end repeat the block's first point).
+template <int L>
 struct BlockPoints {
-  Block u[3];
-  bool in[BernsteinLattice::kBlock];
+  Lanes<L> u[3];
+  bool in[L];
   int lanes = 0;
 };
 
+template <int L>
 void load_block(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
-                std::size_t first, const Parallelepiped& box, BlockPoints& p) {
-  constexpr int L = BernsteinLattice::kBlock;
+                std::size_t first, const Parallelepiped& box, BlockPoints<L>& p) {
   p.lanes = static_cast<int>(std::min<std::size_t>(L, ids.size() - first));
   for (int l = 0; l < L; ++l) {
     const Eigen::Vector3d local = box.inverse_axes() * (in_pos.col(ids[first + (l < p.lanes ? l : 0)]) - box.origin());
@@ -206,18 +213,19 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   const std::vector<double> D = packed_displacements();
   const Eigen::Matrix3d& inv = box_.inverse_axes();
   std::size_t folded = 0, evaluated = 0;
-  const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + kBlock - 1) / kBlock);
+  constexpr int L = kJacobianLanes;
+  const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + L - 1) / L);
 #pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
-    const std::size_t first = static_cast<std::size_t>(b) * kBlock;
-    BlockPoints p;
+    const std::size_t first = static_cast<std::size_t>(b) * L;
+    BlockPoints<L> p;
     load_block(in_pos, ids, first, box_, p);
-    Block w[3][kMaxDegree + 1], dw[3][kMaxDegree + 1];
-    for (int a = 0; a < 3; ++a) bernstein_derivative_block(n[a], p.u[a], w[a], dw[a]);
-    const Block* const axes[3] = {w[0], w[1], w[2]};
-    const Block* const slopes[3] = {dw[0], dw[1], dw[2]};
-    BlockSums s;
-    contract_jacobian_block(n, D.data(), axes, slopes, s);
+    Lanes<L> w[3][kMaxDegree + 1], dw[3][kMaxDegree + 1];
+    for (int a = 0; a < 3; ++a) bernstein_derivative_block<L>(n[a], p.u[a], w[a], dw[a]);
+    const Lanes<L>* const axes[3] = {w[0], w[1], w[2]};
+    const Lanes<L>* const slopes[3] = {dw[0], dw[1], dw[2]};
+    BlockSums<L> s;
+    contract_jacobian_block<L>(n, D.data(), axes, slopes, s);
     for (int l = 0; l < p.lanes; ++l) {
       const std::uint32_t v = ids[first + l];
       if (!p.in[l]) {
@@ -230,7 +238,9 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
       Eigen::Matrix3d G;  // columns: dD/du, dD/dv, dD/dw in box coordinates
       G << s.du[0][l], s.dv[0][l], s.dw[0][l], s.du[1][l], s.dv[1][l], s.dw[1][l], s.du[2][l], s.dv[2][l], s.dw[2][l];
       const Eigen::Matrix3d J = Eigen::Matrix3d::Identity() + G * inv;
-      out_nrm.col(v) = transformed_normal(J, in_nrm.col(v));
+      // A zero normal (a point cloud's) stays zero: transformed_normal's result, without its work.
+      const bool normal = !in_nrm.col(v).isZero(0.0);
+      out_nrm.col(v) = normal ? transformed_normal(J, in_nrm.col(v)) : Eigen::Vector3d::Zero();
       if (J.determinant() <= 0) ++folded;
     }
   }
@@ -246,10 +256,10 @@ void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>&
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t first = static_cast<std::size_t>(b) * kBlock;
-    BlockPoints p;
+    BlockPoints<kBlock> p;
     load_block(in_pos, ids, first, box_, p);
     Block w[3][kMaxDegree + 1];
-    for (int a = 0; a < 3; ++a) bernstein_block(n[a], p.u[a], w[a]);
+    for (int a = 0; a < 3; ++a) bernstein_block<kBlock>(n[a], p.u[a], w[a]);
     const Block* const axes[3] = {w[0], w[1], w[2]};
     Block acc[3];
     contract_block(n, D.data(), axes, acc);
