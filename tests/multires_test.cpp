@@ -240,6 +240,56 @@ TEST(OctreeLattice, LocalSubdivisionAgreesWithSubdividingTheWholeLevel) {
   }
 }
 
+TEST(OctreeLattice, TheRestLatticeSubdividedOnDemandIsTheWholeLevelsBitForBit) {
+  // A large level subdivides its rest lattice only in the cells a move marks (and where
+  // a location walks to); the positions there are the whole level's subdivision exactly,
+  // so the deformation is too.
+  BunnyLattice b;
+  OctreeOptions o = options(4, 2);
+  o.whole_level_cells = 0;
+  OctreeLattice lazy(b.box, b.x, o), whole(b.box, b.x, o);
+  for (int k = 1; k <= 2; ++k) whole.subdivided_rest(4, k);  // every cell, in one go
+  const GridComplex& g = lazy.complex(4);
+  for (std::size_t p : {g.num_points() / 3, g.num_points() / 2}) {
+    move_one(lazy, 4, g.points[p], Eigen::Vector3d(0.01, 0.0, 0.015));
+    move_one(whole, 4, g.points[p], Eigen::Vector3d(0.01, 0.0, 0.015));
+  }
+  EXPECT_LT(lazy.rest_cells_subdivided(4), g.num_cells() / 2);
+  EXPECT_EQ(whole.rest_cells_subdivided(4), g.num_cells());
+  std::vector<std::uint32_t> ids;
+  lazy.changed_points(b.x, ids);
+  Eigen::Matrix3Xd nrm = b.mesh.normals(), pa = b.x, pb = b.x, na = nrm, nb = nrm;
+  WarpCounts counts;
+  lazy.apply(b.x, nrm, ids, pa, na, counts);
+  whole.apply(b.x, nrm, ids, pb, nb, counts);
+  EXPECT_TRUE((pa.array() == pb.array()).all());
+  EXPECT_TRUE((na.array() == nb.array()).all());
+  for (Eigen::Index v = 0; v < b.x.cols(); v += 7) {
+    Eigen::Matrix3d Ja, Jb;
+    EXPECT_TRUE((lazy.apply(b.x.col(v), &Ja).array() == whole.apply(b.x.col(v), &Jb).array()).all());
+    EXPECT_TRUE((Ja.array() == Jb.array()).all());
+  }
+}
+
+TEST(OctreeLattice, AFirstMoveAtTheFinestLevelLocatesFewVertices) {
+  // Ono et al. section 3.2: a move touches N_{S,3}. The first move of one point at level 5
+  // subdivides and locates only there, not the whole level and every vertex.
+  BunnyLattice b;
+  OctreeLattice lattice(b.box, b.x, options(5, 2));
+  const GridComplex& g = lattice.complex(5);
+  move_one(lattice, 5, g.points[g.num_points() / 2], Eigen::Vector3d(0.01, 0.02, 0.0));
+  std::vector<std::uint32_t> ids;
+  lattice.changed_points(b.x, ids);
+  Eigen::Matrix3Xd nrm = b.mesh.normals(), pos = b.x, out_nrm = nrm;
+  WarpCounts counts;
+  lattice.apply(b.x, nrm, ids, pos, out_nrm, counts);
+  std::printf("[first move, level 5] %zu of %td vertices located, %zu of %zu cells subdivided\n",
+              lattice.vertices_located(), b.x.cols(), lattice.rest_cells_subdivided(5), g.num_cells());
+  EXPECT_GT(lattice.vertices_located(), 0u);
+  EXPECT_LT(lattice.vertices_located(), static_cast<std::size_t>(b.x.cols()) / 10);
+  EXPECT_LT(lattice.rest_cells_subdivided(5), g.num_cells() / 10);
+}
+
 TEST(OctreeLattice, JacobianMatchesFiniteDifferences) {
   BunnyLattice b;
   OctreeLattice lattice(b.box, b.x, options(2, 2));

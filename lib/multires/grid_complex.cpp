@@ -40,13 +40,10 @@ void index_points(GridComplex& g) {
         }
 }
 
-}  // namespace
-
-GridComplex make_grid_complex(int resolution, std::vector<GridIndex> cells) {
+/// The complex of `cells`, sorted by (k, j, i) and without duplicates.
+GridComplex complex_of_sorted(int resolution, std::vector<GridIndex> cells) {
   GridComplex g;
   g.resolution = resolution;
-  std::sort(cells.begin(), cells.end(), zyx_less);
-  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   g.cells = std::move(cells);
   if (g.cells.empty()) {
     g.cell_index.clear();
@@ -72,13 +69,38 @@ GridComplex make_grid_complex(int resolution, std::vector<GridIndex> cells) {
   return g;
 }
 
+}  // namespace
+
+GridComplex make_grid_complex(int resolution, std::vector<GridIndex> cells) {
+  std::sort(cells.begin(), cells.end(), zyx_less);
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  return complex_of_sorted(resolution, std::move(cells));
+}
+
 GridComplex refine(const GridComplex& coarse) {
+  // The children in (k, j, i) order without sorting: the coarse cells come sorted, so per
+  // row of coarse cells (same j and k) and child offsets c (k) and b (j), the children of
+  // the row in order with a (i) = 0, 1 are one row of the fine grid; rows go by k, then c,
+  // then j, then b.
   std::vector<GridIndex> children;
   children.reserve(coarse.cells.size() * 8);
-  for (const GridIndex& c : coarse.cells)
-    for (int child = 0; child < 8; ++child)
-      children.push_back({2 * c[0] + (child & 1), 2 * c[1] + ((child >> 1) & 1), 2 * c[2] + ((child >> 2) & 1)});
-  return make_grid_complex(coarse.resolution * 2, std::move(children));
+  const std::vector<GridIndex>& cells = coarse.cells;
+  for (std::size_t slab = 0; slab < cells.size();) {
+    std::size_t slab_end = slab;
+    while (slab_end < cells.size() && cells[slab_end][2] == cells[slab][2]) ++slab_end;
+    for (int c = 0; c < 2; ++c)
+      for (std::size_t row = slab; row < slab_end;) {
+        std::size_t row_end = row;
+        while (row_end < slab_end && cells[row_end][1] == cells[row][1]) ++row_end;
+        for (int b = 0; b < 2; ++b)
+          for (std::size_t p = row; p < row_end; ++p)
+            for (int a = 0; a < 2; ++a)
+              children.push_back({2 * cells[p][0] + a, 2 * cells[p][1] + b, 2 * cells[p][2] + c});
+        row = row_end;
+      }
+    slab = slab_end;
+  }
+  return complex_of_sorted(coarse.resolution * 2, std::move(children));
 }
 
 }  // namespace ffd

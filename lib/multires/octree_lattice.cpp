@@ -34,7 +34,8 @@ void OctreeLattice::build_levels(const Eigen::Matrix3Xd& region) {
   Eigen::Matrix3Xd t(3, static_cast<Eigen::Index>(inside.size()));
   for (std::size_t i = 0; i < inside.size(); ++i) t.col(static_cast<Eigen::Index>(i)) = inside[i];
 
-  levels_.assign(static_cast<std::size_t>(options_.levels) + 1, Level{});
+  levels_.clear();
+  levels_.resize(static_cast<std::size_t>(options_.levels) + 1);
   for (Level& level : levels_) {  // references to sub[k], fine[k] stay valid as they are built
     level.sub.reserve(static_cast<std::size_t>(options_.cc_steps) + 1);
     level.fine.reserve(static_cast<std::size_t>(options_.cc_steps) + 1);
@@ -136,6 +137,19 @@ const Eigen::MatrixXd& OctreeLattice::deformation(int l) const {
   return delta;
 }
 
+/// The grid cells mark_changed marks for the points `ids` (in the grid, existing or not).
+static std::vector<GridIndex> marked_cells(const GridComplex& g, const std::vector<std::int32_t>& ids) {
+  std::vector<GridIndex> out;
+  const int res = g.resolution;
+  for (std::int32_t id : ids) {
+    const GridIndex& p = g.points[static_cast<std::size_t>(id)];
+    for (int k = std::max(0, p[2] - 3); k <= std::min(res - 1, p[2] + 2); ++k)
+      for (int j = std::max(0, p[1] - 3); j <= std::min(res - 1, p[1] + 2); ++j)
+        for (int i = std::max(0, p[0] - 3); i <= std::min(res - 1, p[0] + 2); ++i) out.push_back({i, j, k});
+  }
+  return out;
+}
+
 OctreeMove OctreeLattice::move_level_points(int l, const std::vector<std::int32_t>& ids,
                                       const std::vector<Eigen::Vector3d>& targets) {
   const Eigen::Matrix3Xd shown = points(l);
@@ -150,6 +164,7 @@ OctreeMove OctreeLattice::move_level_points(int l, const std::vector<std::int32_
   ensure_subdivided(l);
   update_displacements(l, ids, change, report);
   mark_changed(l, ids, report);
+  if (level.ready) ensure_rest(l, marked_cells(level.sub[0], ids));
   level.moved = true;
   any_changed_ = any_changed_ || !ids.empty();
   return report;
@@ -157,16 +172,87 @@ OctreeMove OctreeLattice::move_level_points(int l, const std::vector<std::int32_
 
 void OctreeLattice::ensure_subdivided(int l) const {
   Level& level = levels_[l];
+  if (static_cast<int>(level.sub.size()) > options_.cc_steps) return;
+  // A small level is subdivided whole, positions and step matrices; a large one gets its
+  // topology now and its rest positions cell by cell (ensure_rest).
+  const bool whole = level.sub[0].num_cells() <= options_.whole_level_cells;
   while (static_cast<int>(level.sub.size()) <= options_.cc_steps) {
     const std::size_t k = level.sub.size();
     level.sub.push_back(refine(level.sub[k - 1]));
-    level.fine.push_back(
-        subdivide_field(level.sub[k - 1], level.sub[k], level.fine[k - 1], SubdivisionRule::CatmullClark));
-    // A level is subdivided before its first move: there is nothing to subdivide yet.
-    level.disp.push_back(Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(level.sub[k].num_points())));
-    if (level.sub[0].num_cells() <= options_.whole_level_cells)
+    const auto points = static_cast<Eigen::Index>(level.sub[k].num_points());
+    if (whole) {
+      level.fine.push_back(
+          subdivide_field(level.sub[k - 1], level.sub[k], level.fine[k - 1], SubdivisionRule::CatmullClark));
       level.steps.push_back(subdivision_matrix(level.sub[k - 1], level.sub[k].points, SubdivisionRule::CatmullClark));
+    } else {
+      level.fine.emplace_back(3, points);  // written by ensure_rest, point by point
+      level.written.emplace_back(static_cast<std::size_t>(points), 0);
+    }
+    // A level is subdivided before its first move: there is nothing to subdivide yet.
+    level.disp.push_back(Eigen::Matrix3Xd::Zero(3, points));
   }
+  if (!whole) {
+    const std::size_t res = static_cast<std::size_t>(level.sub[0].resolution);
+    level.ready.reset(new std::atomic<std::uint8_t>[res * res * res]());
+  }
+}
+
+bool OctreeLattice::rest_ready(int l, const GridIndex& cell) const {
+  const Level& level = levels_[l];
+  return !level.ready || level.ready[dense_cell(cell, level.sub[0].resolution)].load(std::memory_order_acquire) != 0;
+}
+
+std::size_t OctreeLattice::rest_cells_subdivided(int l) const {
+  const Level& level = levels_[l];
+  if (static_cast<int>(level.sub.size()) <= options_.cc_steps) return 0;
+  std::size_t n = 0;
+  for (const GridIndex& c : level.sub[0].cells) n += rest_ready(l, c);
+  return n;
+}
+
+void OctreeLattice::ensure_rest(int l, const std::vector<GridIndex>& cells) const {
+  std::lock_guard<std::mutex> lock(rest_mutex_);
+  Level& level = levels_[l];
+  const GridComplex& g = level.sub[0];
+  const int res = g.resolution, rings = options_.cc_steps;
+  std::vector<GridIndex> todo;
+  for (const GridIndex& c : cells)
+    if (g.has_cell(c[0], c[1], c[2]) && !rest_ready(l, c)) todo.push_back(c);
+  if (todo.empty()) return;
+  // A point of C^k on a cell's closure reads C^(k-1) one ring of C^(k-1) cells around,
+  // and its rule depends on the cells there: k rings of the level's cells hold all it reads.
+  std::vector<std::uint8_t> near(static_cast<std::size_t>(res) * res * res, 0);
+  std::vector<GridIndex> region;
+  for (const GridIndex& c : todo)
+    for (int k = std::max(0, c[2] - rings); k <= std::min(res - 1, c[2] + rings); ++k)
+      for (int j = std::max(0, c[1] - rings); j <= std::min(res - 1, c[1] + rings); ++j)
+        for (int i = std::max(0, c[0] - rings); i <= std::min(res - 1, c[0] + rings); ++i) {
+          std::uint8_t& seen = near[dense_cell({i, j, k}, res)];
+          if (!seen && g.has_cell(i, j, k)) region.push_back({i, j, k});
+          seen = 1;
+        }
+  GridComplex local = make_grid_complex(res, std::move(region));
+  Eigen::MatrixXd field(3, static_cast<Eigen::Index>(local.num_points()));
+  for (std::size_t p = 0; p < local.num_points(); ++p)
+    field.col(static_cast<Eigen::Index>(p)) = level.rest.col(g.point(local.points[p]));
+  for (int k = 1; k <= options_.cc_steps; ++k) {
+    GridComplex finer = refine(local);
+    field = subdivide_field(local, finer, field, SubdivisionRule::CatmullClark);
+    const int span = 1 << k;  // nodes of C^k per cell of the level, per axis
+    std::vector<std::uint8_t>& written = level.written[static_cast<std::size_t>(k - 1)];
+    for (const GridIndex& c : todo)
+      for (int z = 0; z <= span; ++z)
+        for (int y = 0; y <= span; ++y)
+          for (int x = 0; x <= span; ++x) {
+            const GridIndex node{c[0] * span + x, c[1] * span + y, c[2] * span + z};
+            const std::int32_t p = level.sub[k].point(node);
+            if (written[static_cast<std::size_t>(p)]) continue;
+            level.fine[k].col(p) = field.col(finer.point(node));
+            written[static_cast<std::size_t>(p)] = 1;
+          }
+    local = std::move(finer);
+  }
+  for (const GridIndex& c : todo) level.ready[dense_cell(c, res)].store(1, std::memory_order_release);
 }
 
 /// The cells of the level within `before`..`after` grid steps of the points' nodes.
@@ -225,13 +311,7 @@ void OctreeLattice::mark_changed(int l, const std::vector<std::int32_t>& ids, Oc
   const int res = g.resolution;
   // N_{S,3}: the cells within 2 cells of the cells around S (grid cells, cut or not, so
   // that a vertex a subdivided cell reaches over a cut is not missed).
-  for (std::int32_t id : ids) {
-    const GridIndex& p = g.points[static_cast<std::size_t>(id)];
-    for (int k = std::max(0, p[2] - 3); k <= std::min(res - 1, p[2] + 2); ++k)
-      for (int j = std::max(0, p[1] - 3); j <= std::min(res - 1, p[1] + 2); ++j)
-        for (int i = std::max(0, p[0] - 3); i <= std::min(res - 1, p[0] + 2); ++i)
-          level.marks.mark(dense_cell({i, j, k}, res));
-  }
+  for (const GridIndex& c : marked_cells(g, ids)) level.marks.mark(dense_cell(c, res));
   report.cells_marked = 0;
   for (std::size_t c = 0; c < g.num_cells(); ++c) report.cells_marked += level.marks.changed[dense_cell(g.cells[c], res)];
 }
@@ -339,6 +419,7 @@ const GridComplex& OctreeLattice::subdivided(int l, int k) const {
 
 const Eigen::Matrix3Xd& OctreeLattice::subdivided_rest(int l, int k) const {
   ensure_subdivided(l);
+  if (levels_[l].ready) ensure_rest(l, levels_[l].sub[0].cells);
   return levels_[l].fine[k];
 }
 

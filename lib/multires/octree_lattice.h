@@ -34,8 +34,10 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -136,6 +138,11 @@ public:
 
   /// Bytes held by the levels and their Catmull-Clark subdivisions.
   std::size_t bytes() const;
+  /// Vertices the batch apply has located in a level's subdivided rest lattices so far
+  /// (a vertex is located once per level, when a move first marks its cell).
+  std::size_t vertices_located() const { return located_.load(); }
+  /// Cells of grid level `level` whose rest lattice has been Catmull-Clark subdivided.
+  std::size_t rest_cells_subdivided(int level) const;
 
   // Warp
   Eigen::Vector3d apply(const Eigen::Vector3d& x, Eigen::Matrix3d* jacobian) const override;
@@ -177,7 +184,14 @@ private:
   };
   struct Level {
     std::vector<GridComplex> sub;          // sub[k] = C^k topology; sub[0] the level itself
-    std::vector<Eigen::Matrix3Xd> fine;    // fine[k] = C^k(R_l) positions (built on first use)
+    std::vector<Eigen::Matrix3Xd> fine;    // fine[k] = C^k(R_l) positions, where `ready` says
+    // Large levels subdivide their rest lattice where it is needed (section 3.2: a move
+    // subdivides N_{S,3}, not the level): per cell of the level's grid (dense), whether
+    // fine[k] holds C^k(R_l) at every point of the cell's subdivisions, for every k; and per
+    // step k >= 1 and point of sub[k], whether fine[k] holds it. Null `ready`: the whole
+    // level is subdivided (small levels, and subdivided_rest()).
+    std::unique_ptr<std::atomic<std::uint8_t>[]> ready;
+    std::vector<std::vector<std::uint8_t>> written;
     std::vector<Eigen::Matrix3Xd> disp;    // disp[k] = C^k(delta_l)
     std::vector<Eigen::SparseMatrix<double, Eigen::RowMajor>> steps;  // small levels: C as matrices
     Eigen::Matrix3Xd rest, delta;
@@ -193,6 +207,11 @@ private:
   OctreeMove move_local(int level, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change);
   void shrink_level(int level, const Eigen::Matrix3Xd& box_coords);
   void ensure_subdivided(int level) const;
+  /// Makes fine[k] hold C^k(R_level) on the given cells of the level's grid (existing
+  /// ones), by subdividing them and cc_steps rings around them (what the rules read);
+  /// thread-safe, and each point is written once, so readers of ready cells never race.
+  void ensure_rest(int level, const std::vector<GridIndex>& cells) const;
+  bool rest_ready(int level, const GridIndex& cell) const;
   void update_displacements(int level, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change,
                             OctreeMove& report);
   void mark_changed(int level, const std::vector<std::int32_t>& ids, OctreeMove& report);
@@ -219,6 +238,8 @@ private:
   Parallelepiped box_;
   OctreeOptions options_;
   mutable std::vector<Level> levels_;
+  mutable std::mutex rest_mutex_;  // ensure_rest: one subdivision at a time
+  mutable std::atomic<std::size_t> located_{0};
   std::vector<Local> local_;
   mutable std::vector<Eigen::MatrixXd> deformation_;  // grid levels' Delta_l since the last move; empty: not yet
   bool any_changed_ = false;

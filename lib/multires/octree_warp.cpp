@@ -40,6 +40,8 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3
     for (int step = 0; step < kMaxWalk; ++step) {
       const std::int32_t cell = g.cell(c[0], c[1], c[2]);
       if (cell < 0) break;
+      const GridIndex coarse{c[0] >> k, c[1] >> k, c[2] >> k};  // the level's cell holding it
+      if (k > 0 && !rest_ready(l, coarse)) ensure_rest(l, {coarse});
       const Eigen::Vector3d guess =
           (t * res - Eigen::Vector3d(c[0], c[1], c[2])).cwiseMax(0.0).cwiseMin(1.0);  // exact on a regular grid
       Eigen::Vector3d u;
@@ -106,6 +108,7 @@ bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag)
   SubdividedLevel::Location where;
   if (tag.state == 0) {
     tag.state = local(l).locate(x, where) ? 1 : 2;
+    located_.fetch_add(1, std::memory_order_relaxed);
     tag.u = where.lambda.tail<3>(), tag.cell = where.cell, tag.face = where.face;
     tag.step = static_cast<std::int8_t>(where.step), tag.slot = static_cast<std::int8_t>(where.slot);
   }
@@ -121,6 +124,7 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
   if (tag.state == 0) {
     Location where;
     tag.state = locate(l, x, t, where) ? 1 : 2;
+    located_.fetch_add(1, std::memory_order_relaxed);
     tag.u = where.u, tag.cell = where.cell, tag.step = static_cast<std::int8_t>(where.step);
   }
   if (tag.state != 1) return false;
