@@ -1,5 +1,7 @@
 #include "warp/lattice.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -177,14 +179,31 @@ void Lattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   if (!any_changed_) return;
   const Eigen::Matrix3d& inv = box_.inverse_axes();
   const Eigen::Vector3d& o = box_.origin();
-  for (Eigen::Index v = 0; v < in_pos.cols(); ++v) {
+  // Every piece changed (one point of a Bernstein lattice, or of a small B-spline one): the
+  // points inside the box, without locating them.
+  const bool all = std::all_of(changed_piece_.begin(), changed_piece_.end(), [](std::uint8_t c) { return c != 0; });
+  const auto changed = [&](Eigen::Index v) {
     const Eigen::Vector3d u = inv * (in_pos.col(v) - o);
-    if (!inside(u)) continue;
+    if (!inside(u)) return false;
+    if (all) return true;
     Index3 p;
     double local;
     for (int a = 0; a < 3; ++a) locate(a, u[a], p[a], local);
-    if (changed_piece_[flat_piece(p)]) ids.push_back(static_cast<std::uint32_t>(v));
+    return changed_piece_[flat_piece(p)] != 0;
+  };
+  // In parallel, each thread over one contiguous range, its ids appended in range order:
+  // the same list, in increasing order, whatever the thread count.
+  std::vector<std::vector<std::uint32_t>> parts;
+#pragma omp parallel
+  {
+#pragma omp single
+    parts.resize(static_cast<std::size_t>(omp_get_num_threads()));
+    std::vector<std::uint32_t>& mine = parts[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(static)
+    for (Eigen::Index v = 0; v < in_pos.cols(); ++v)
+      if (changed(v)) mine.push_back(static_cast<std::uint32_t>(v));
   }
+  for (const std::vector<std::uint32_t>& part : parts) ids.insert(ids.end(), part.begin(), part.end());
 }
 
 void Lattice::clear_changes() {
