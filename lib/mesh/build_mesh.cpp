@@ -27,8 +27,9 @@ void check_elements(const PolygonSoup& soup, const std::string& file) {
 
 }  // namespace
 
-Mesh build_mesh(PolygonSoup soup, const std::string& file) {
+Mesh build_mesh(PolygonSoup soup, const std::string& file, bool defer_normals) {
   check_elements(soup, file);
+  const bool normals = !defer_normals || !soup.normals.empty();  // writers fill in file normals from them
   Mesh mesh;
   mesh.set_source(file);
   mesh.set_source_binary(soup.binary);
@@ -47,7 +48,7 @@ Mesh build_mesh(PolygonSoup soup, const std::string& file) {
   mesh.file_uv_count = mesh.uvs().size();
   mesh.file_normal_count = mesh.file_normals().size();
   mesh.set_elements(std::move(soup.elements));
-  mesh.set_vertices(std::move(positions));
+  mesh.set_vertices(std::move(positions), normals);
   return mesh;
 }
 

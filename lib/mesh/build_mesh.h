@@ -14,8 +14,10 @@ namespace ffd {
 /// computed (angle-weighted over the polygons). Any polygon soup is accepted: flipped,
 /// duplicate, non-manifold or degenerate faces are the halfedge view's business
 /// (halfedge_view.h), not a space warp's.
+/// With `defer_normals`, a soup without file normals leaves the vertex normals to
+/// Mesh::compute_deferred_normals().
 /// \throw InputError naming `file` and the element's line (or index) when an element
 /// has no corner or indexes a vertex, texture coordinate or normal past the end.
-Mesh build_mesh(PolygonSoup soup, const std::string& file);
+Mesh build_mesh(PolygonSoup soup, const std::string& file, bool defer_normals = false);
 
 }  // namespace ffd

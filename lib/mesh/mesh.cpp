@@ -53,9 +53,16 @@ void Mesh::resize_vertices(std::size_t count) {
   for (auto& [name, m] : attributes_) resize_array(m, count, Eigen::Vector3d::Zero());
 }
 
-void Mesh::set_vertices(Eigen::Matrix3Xd positions) {
+void Mesh::set_vertices(Eigen::Matrix3Xd positions, bool normals) {
   rest_ = positions;
   pos_ = std::move(positions);
+  if (!normals) {
+    rest_normal_ = Eigen::Matrix3Xd::Zero(3, pos_.cols());
+    resize_vertices(num_vertices());
+    normal_ = rest_normal_;
+    normals_deferred_ = true;
+    return;
+  }
   rest_normal_.resize(3, pos_.cols());  // compute_vertex_normals writes every column
   resize_vertices(num_vertices());      // recompute_rest_normals then sets the normals
   recompute_rest_normals(true);
@@ -109,6 +116,7 @@ void Mesh::bake() {
 }
 
 void Mesh::recompute_rest_normals(bool also_current) {
+  normals_deferred_ = false;
   compute_vertex_normals(*this, rest_positions(), rest_normals());
   if (also_current) normal_ = rest_normal_;
 }

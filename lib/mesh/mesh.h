@@ -131,7 +131,16 @@ public:
   /// Makes `positions` the vertices, rest and current, with the normals of the elements
   /// already set; every other per-vertex attribute is resized as by resize_vertices.
   /// What build_mesh does, without resize_vertices' zero fill of arrays that are written next.
-  void set_vertices(Eigen::Matrix3Xd positions);
+  /// Without `normals`, the rest and current normals stay zero until
+  /// compute_deferred_normals() (a run whose steps and outputs need none skips them).
+  void set_vertices(Eigen::Matrix3Xd positions, bool normals = true);
+  /// Whether set_vertices left the normals to compute_deferred_normals().
+  bool normals_deferred() const { return normals_deferred_; }
+  /// Computes the deferred normals: what set_vertices would have computed. Call it before
+  /// any warp moves the mesh (the current normals are set to the rest normals).
+  void compute_deferred_normals() {
+    if (normals_deferred_) recompute_rest_normals(true);
+  }
 
   /// Rest positions: where each vertex lives before the warps of the current stack.
   Vec3Array rest_positions() { return map(rest_); }
@@ -236,6 +245,7 @@ public:
 
 private:
   Mesh(const Mesh&) = default;  // clone()
+  bool normals_deferred_ = false;
   static Vec3Array map(Eigen::Matrix3Xd& m) { return {m.data(), 3, m.cols()}; }
   static ConstVec3Array map(const Eigen::Matrix3Xd& m) { return {m.data(), 3, m.cols()}; }
 

@@ -135,7 +135,7 @@ std::size_t stage_gltf_images(const std::filesystem::path& target, const Mesh& m
 
 }  // namespace
 
-Mesh read_mesh(const std::string& path) {
+Mesh read_mesh(const std::string& path, bool defer_normals) {
   const MeshFormat format = mesh_format(path);
   PolygonSoup soup;
   switch (format) {
@@ -157,7 +157,7 @@ Mesh read_mesh(const std::string& path) {
   }
   // Nothing to deform, and nothing a step could write back: not a mesh.
   if (soup.positions.empty()) throw InputError(At{path}, "the file has no vertex");
-  return build_mesh(std::move(soup), path);
+  return build_mesh(std::move(soup), path, defer_normals);
 }
 
 std::pair<Mesh, Mesh> read_mesh_pair(const std::string& a, const std::string& b) {

@@ -23,8 +23,9 @@ MeshFormat mesh_format(const std::filesystem::path& path);
 bool has_mesh_extension(const std::filesystem::path& path);
 
 /// Reads a mesh file into a Mesh, checked as build_mesh describes.
+/// `defer_normals`: as build_mesh's (glTF files get their normals at once).
 /// \throw InputError naming the file and the place for anything unreadable.
-Mesh read_mesh(const std::string& path);
+Mesh read_mesh(const std::string& path, bool defer_normals = false);
 /// Two meshes read at once, on two threads (`compare`); A's error first if both fail.
 std::pair<Mesh, Mesh> read_mesh_pair(const std::string& a, const std::string& b);
 

@@ -45,6 +45,10 @@ public:
   virtual void check(ScriptChecks& checks) const {}
   /// The files the step will write, checked before any work.
   virtual std::vector<OutputFile> outputs() const { return {}; }
+  /// Whether the step reads the mesh's vertex normals or writes them out (in a picture or
+  /// a format that holds them whatever the input): a run none of whose steps and outputs
+  /// do skips them (Mesh::normals_deferred). Ops that only move vertices say no.
+  virtual bool needs_vertex_normals() const { return true; }
   /// Does the step. Errors it raises without a place are placed by the runner: at the key
   /// the op table gives their subject, or at the step.
   virtual void run(Scene& scene, StepContext& ctx) const = 0;

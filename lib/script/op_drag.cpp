@@ -17,6 +17,7 @@ struct DragPoint {
 };
 
 struct DragStep final : Step {
+  bool needs_vertex_normals() const override { return false; }
   std::string lattice;
   std::vector<DragPoint> points;
   std::optional<int> level;

@@ -9,6 +9,7 @@ namespace ffd {
 namespace {
 
 struct IdwStep final : Step {
+  bool needs_vertex_normals() const override { return false; }
   std::string name;
   double power = 2;
   PointSource points;

@@ -15,6 +15,7 @@ const std::vector<std::pair<std::string, Basis>> kBases = {
     {"bspline", Basis::BSpline}, {"bernstein", Basis::Bernstein}, {"octree", Basis::Octree}};
 
 struct LatticeStep final : Step {
+  bool needs_vertex_normals() const override { return false; }
   std::string name;
   Basis basis = Basis::BSpline;
   int degree = 3;

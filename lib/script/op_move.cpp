@@ -23,6 +23,7 @@ struct MoveTargets {
 };
 
 struct MoveStep final : Step {
+  bool needs_vertex_normals() const override { return false; }
   std::string lattice;
   std::vector<MovePoint> points;
   std::optional<Selection> select;

@@ -19,6 +19,7 @@ const std::vector<std::pair<std::string, RbfKernel>> kKernels = {
     {"polyharmonic_spline", RbfKernel::Polyharmonic}};
 
 struct RbfStep final : Step {
+  bool needs_vertex_normals() const override { return false; }
   std::string name;
   RbfOptions options;
   PointSource points;

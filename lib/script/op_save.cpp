@@ -30,6 +30,13 @@ struct SaveStep final : Step {
     if (preview) out.push_back({"/preview", *preview, true});
     return out;
   }
+  /// A picture shades by them; glTF holds them whatever the input.
+  bool needs_vertex_normals() const override {
+    if (preview) return true;
+    if (lattice || sensitivity) return false;
+    const MeshFormat format = mesh_format(path);
+    return format == MeshFormat::Gltf || format == MeshFormat::Glb;
+  }
   void check(ScriptChecks& checks) const override;
   void run(Scene& scene, StepContext& ctx) const override;
   void save_net(Scene& scene, StepContext& ctx) const;

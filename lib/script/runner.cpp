@@ -2,6 +2,7 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <omp.h>
@@ -69,6 +70,15 @@ void check_outputs(const RunOptions& options, const Script& script, const std::s
       if (same_file(options.preview, input)) throw InputError(At{options.preview}, "the preview would overwrite an input");
   }
   check_step_outputs(script, output_folder, options.mesh);
+}
+
+// Whether the run reads or writes vertex normals: a step that does, a preview, or a glTF
+// output (it holds normals whatever the input had).
+bool needs_vertex_normals(const Script& script, const RunOptions& options) {
+  const MeshFormat format = mesh_format(options.output);
+  if (!options.preview.empty() || format == MeshFormat::Gltf || format == MeshFormat::Glb) return true;
+  return std::any_of(script.steps.begin(), script.steps.end(),
+                     [](const auto& step) { return step->needs_vertex_normals(); });
 }
 
 // Passes on the glTF reader's notes (skinned, morph-targeted meshes) as warnings;
@@ -182,7 +192,8 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
   check_outputs(options, script, scene.output_folder);
 
   Stopwatch read_clock;
-  scene.mesh = read_mesh(options.mesh);
+  scene.mesh = read_mesh(options.mesh, /*defer_normals=*/true);
+  if (needs_vertex_normals(script, options)) scene.mesh.compute_deferred_normals();
   check_writable(scene.mesh, mesh_format(options.output), options.output);  // before any work
   nlohmann::ordered_json stats = input_stats(options.mesh, options.script, scene.mesh, read_clock.ms());
 #ifndef NDEBUG
