@@ -2,7 +2,8 @@
 """Writes the outputs that every speed change must keep byte for byte (issue #25).
 
 Runs a fixed set of scripts (cubic B-spline and Bernstein lattice moves, an octree
-lattice moved at each of its levels 0-5, and boundary-constraint modeling with detail)
+lattice moved at each of its levels 0-5, and boundary-constraint modeling with detail,
+one pose and 200 frames)
 on the bundled bunny, CGAL's elephant, the shared meshes, a 100k-vertex UV sphere with
 normals (OBJ) and a 100k-point cloud (binary PLY), each with --threads 1 and 2, into
 OUT/<mesh>/<job>/t<threads>/. Two such folders are the same when `diff -r` finds nothing
@@ -131,9 +132,13 @@ def main():
             for threads in (1, 2):
                 run(args.ffdtool, mesh, steps, args.out / mesh.stem / name / f"t{threads}", threads, mesh.suffix)
     bcm = json.loads((ROOT / "test_data" / "bcm_bunny.json").read_text())["steps"]
-    for threads in (1, 2):
-        run(args.ffdtool, ROOT / "test_data" / "bunny.obj", bcm, args.out / "bunny" / "bcm" / f"t{threads}", threads,
-            ".obj")
+    # A sequence of poses: its frames choose their thread count as they go (ThreadChoice).
+    frames = [bcm[0], {"op": "transform", "editor": "back", "handle": "hump",
+                       "frames": [{"translate": [0, 0.01 * i, 0.005 * i]} for i in range(200)]}]
+    for name, steps in (("bcm", bcm), ("bcm_frames", frames)):
+        for threads in (1, 2):
+            run(args.ffdtool, ROOT / "test_data" / "bunny.obj", steps, args.out / "bunny" / name / f"t{threads}",
+                threads, ".obj")
     print(f"speed goldens: {args.out}", file=sys.stderr)
 
 

@@ -4,6 +4,8 @@
 
 #include <Eigen/UmfPackSupport>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -358,14 +360,14 @@ void bcm_set_pose(BcmData& data, std::size_t h, const Eigen::Matrix3d& linear, c
       ((linear * (data.frame_setup[h].colwise() + data.origin)).colwise() + translation).colwise() - data.origin;
 }
 
-void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions) {
+void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions, int threads) {
   // Eq. 6 per free vertex: p = const + Σ_h [a b c d]_h · (its 4 basis weights of h), a
   // (3 × 4m)·(4m) product with the vertex's weights contiguous; fixed-size 3 × 4 blocks,
   // no temporaries. One team of threads for the whole frame; each vertex is written by one
   // thread with the same arithmetic whatever their number.
   const bool detail = data.options.detail;
   const std::uint32_t* free = data.regions.free.data();
-#pragma omp parallel
+#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads())
   {
     // With detail, the moved base goes straight into the detail's own copy of it.
     Eigen::Matrix3Xd& base = data.detail.base_in_slots();

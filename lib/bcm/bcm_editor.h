@@ -135,8 +135,9 @@ BcmData bcm_precompute(const Mesh& mesh, const std::vector<std::uint32_t>& suppo
 void bcm_set_pose(BcmData& data, std::size_t h, const Eigen::Matrix3d& linear, const Eigen::Vector3d& translation);
 
 /// Writes the free and handle vertices' positions (columns of the mesh's 3 × n array) for
-/// the current poses: eq. 6 plus, with detail, the detail added back.
-void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions);
+/// the current poses: eq. 6 plus, with detail, the detail added back. `threads`: the
+/// team's size (0: OpenMP's default); the result is the same whatever it is.
+void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions, int threads = 0);
 
 /// The free vertices of eq. 5 solved directly for the current poses with the stored
 /// factorization (no basis), 3 × num_free in regions.free order, without detail. For

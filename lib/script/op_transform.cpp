@@ -1,8 +1,11 @@
 // The transform op: poses a bcm editor's handle, once (`transform`) or as a sequence of
 // frames (`frames`, each saved with a `{i}` pattern), each pose one small dense product.
+#include <omp.h>
+
 #include <cmath>
 
 #include "common/numbers.h"
+#include "common/thread_choice.h"
 #include "common/timer.h"
 #include "mesh/file_normals.h"
 #include "mesh/vertex_normals.h"
@@ -138,6 +141,7 @@ void TransformStep::run(Scene& scene, StepContext& ctx) const {
   const std::vector<Transform> poses = frames.empty() ? std::vector<Transform>{*transform} : frames;
   Eigen::Matrix3Xd fresh(3, static_cast<Eigen::Index>(scene.mesh.num_vertices()));
   double update_ms = 0, save_ms = 0;
+  ThreadChoice threads(omp_get_max_threads());
   std::size_t bytes = 0;
   nlohmann::ordered_json saved = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -148,8 +152,11 @@ void TransformStep::run(Scene& scene, StepContext& ctx) const {
     const Eigen::Matrix3d linear = t.linear();
     bcm_set_pose(target.bcm, h, linear, center + t.translate - linear * center);
     Stopwatch clock;
-    bcm_pose(target.bcm, scene.mesh.positions());
-    update_ms += clock.ms();
+    const int team = threads.next();
+    bcm_pose(target.bcm, scene.mesh.positions(), team);
+    const double ms = clock.ms();
+    threads.record(team, ms);
+    update_ms += ms;
     if (save) {
       Stopwatch save_clock;
       refresh_normals(scene, target, fresh);
@@ -167,6 +174,7 @@ void TransformStep::run(Scene& scene, StepContext& ctx) const {
   for (std::uint32_t v : target.moved) rest.col(v) = positions.col(v);
   target.remember(positions);
   report(target, h, update_ms, saved, ctx);
+  ctx.stats["frames_on_one_thread"] = threads.single_runs();
   ctx.stats["saved_bytes"] = bytes;
   ctx.stats["save_ms"] = save_ms;
   ctx.stats["baked_lattices"] = baked;
