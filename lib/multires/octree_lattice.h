@@ -26,7 +26,10 @@
 // N_{S,3}, which is exact (the paper takes N_{S,4}; see update_displacements), or the
 // whole level when it is small, and marks the cells of N_{S,3}:
 // changed_points() reports only the vertices there; every other vertex is untouched.
-// Points outside every cell of every moved level are never changed, bit for bit.
+// Points outside every cell of every moved level are never changed, bit for bit. The rest
+// lattice's subdivisions C^k(R_l) are local too: a large level's first move builds their
+// topology but subdivides the rest positions only in the cells it marks (and, on demand,
+// where locating a vertex walks), so a first move costs about what a later one does.
 //
 // Local subdivision (section 2.2, Figure 3): subdivide() adds a level made of chosen cells
 // of a level split by the octree rules (a SubdividedLevel, of general topology), shown
