@@ -13,6 +13,8 @@
 #include "mesh/mesh.h"
 #include "mesh/soup.h"
 
+#include "child_run.h"
+
 namespace ffd::bench {
 
 struct Context {
@@ -73,6 +75,42 @@ struct TempFolder {
   TempFolder& operator=(const TempFolder&) = delete;
   std::string file(const std::string& name) const { return (path / name).string(); }
 };
+
+/// The median of `values` (the upper one of an even count, as median_ms).
+double median(std::vector<double> values);
+
+/// Writes `bytes` to `path`. \throw IoError if that fails.
+void write_file(const std::string& path, const std::string& bytes);
+
+/// `argv` run `warmups` + `repeats` times; the runs after the warm-ups, or the first
+/// failed one alone.
+std::vector<ChildRun> run_repeated(const std::vector<std::string>& argv, const TempFolder& dir, int warmups,
+                                   int repeats);
+
+/// Median wall time and median peak RSS of `runs`.
+void child_medians(const std::vector<ChildRun>& runs, double& ms, double& peak_bytes);
+
+/// What a Blender row says when there is no Blender.
+inline constexpr const char* kNoBlender = "not installed: apt-get install blender";
+
+/// The Blender the io and users suites run: `configured` (\throw InputError if it is not
+/// an executable), else `blender` on PATH, else empty (not installed).
+std::string blender_path(const std::string& configured);
+
+/// The argv of a Blender run (one thread) of blender_peer.py in `mode` with `args`.
+std::vector<std::string> blender_argv(const std::string& blender, const std::vector<std::string>& peer_args);
+
+/// The peer's `FFDBENCH_JSON {...}` line of a Blender run, parsed (null if absent).
+nlohmann::ordered_json peer_json(const ChildRun& run);
+
+/// Why a Blender run gave no result, for the row.
+std::string blender_failure(const ChildRun& run);
+
+/// The peer (blender_argv) run `repeats` times: "blender" (its version, or why a run
+/// failed) and, when every run gave its JSON, "runs", "blender_wall_ms" and the medians of
+/// the peer's `keys` (in name order) and of the peak RSS ("peak_bytes").
+nlohmann::ordered_json blender_medians(const std::string& blender, const std::vector<std::string>& peer_args,
+                                       const TempFolder& dir, int repeats, const std::vector<std::string>& keys);
 
 /// The bcm suites' regions on a mesh: the support is the `support_size` vertices nearest
 /// to the vertex farthest from the centroid (a geodesic-like cap over most of the

@@ -39,8 +39,6 @@ Pose random_pose(std::mt19937& rng, const Eigen::Vector3d& center, double reach)
   return pose;
 }
 
-double median(std::vector<double> values);
-
 // Median ms of `frames` updates of handle 0 of `editor` into `positions`, each at a fresh
 // random pose (seed 17, so every editor sees the same poses); returns the last pose too.
 double median_frame_ms(BcmData& editor, Eigen::Matrix3Xd& positions, double reach, int frames, Pose& last) {
@@ -54,11 +52,6 @@ double median_frame_ms(BcmData& editor, Eigen::Matrix3Xd& positions, double reac
     times.push_back(frame_clock.ms());
   }
   return median(times);
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
 }
 
 }  // namespace

@@ -34,10 +34,6 @@
 #include "mesh/mesh_io.h"
 #include "warp/bspline_lattice.h"
 
-#ifndef FFD_BENCH_SOURCE_DIR
-#define FFD_BENCH_SOURCE_DIR "apps/ffdbench"
-#endif
-
 namespace ffd::bench {
 namespace {
 
@@ -52,7 +48,6 @@ constexpr int kPoint = 3;
 constexpr int kBlenderPoint = kPoint + 1;
 constexpr double kDelta[3] = {0.1, 0.2, 0.3};
 constexpr int kBlenderRepeats = 3;
-constexpr const char* kNoBlender = "not installed: apt-get install blender";
 
 /// A file format of the suite: its row name, file extension, whether ffdtool writes the
 /// input file (else the bench's own float32 writer below does, as exporters write binary
@@ -80,12 +75,6 @@ std::string output_format(const Format& f) { return f.name; }
 
 bool is_binary(const Format& f) { return std::string(f.name).find("binary") != std::string::npos; }
 
-/// The median of `values` (the upper one of an even count, as median_ms).
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values.empty() ? 0 : values[values.size() / 2];
-}
-
 /// Median ms over `repeats` (after one warm-up run, as median_ms) of build_mesh on a
 /// copy of `soup` (the copy not timed): the step every reader ends with, the same for
 /// every format.
@@ -104,13 +93,6 @@ double build_mesh_ms(const PolygonSoup& soup, int repeats) {
 template <class T>
 void append(std::string& out, T value) {
   out.append(reinterpret_cast<const char*>(&value), sizeof value);
-}
-
-/// Writes `bytes` to `path`. \throw IoError if that fails.
-void write_file(const std::string& path, const std::string& bytes) {
-  std::ofstream os(path, std::ios::binary);
-  os.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!os.flush()) throw IoError(At{path}, "cannot write");
 }
 
 /// Writes `mesh` as binary little-endian PLY: float x y z, `property list uchar int
@@ -236,48 +218,6 @@ json file_row(const Format& f, const Mesh& mesh, const TempFolder& dir, int repe
   return r;
 }
 
-/// The last non-empty line of `text`, for error messages.
-/// `argv` run `warmups` + `repeats` times; the runs after the warm-ups, or the first
-/// failed one alone.
-std::vector<ChildRun> run_repeated(const std::vector<std::string>& argv, const TempFolder& dir,
-                                   int warmups, int repeats) {
-  std::vector<ChildRun> runs;
-  for (int i = 0; i < warmups + std::max(1, repeats); ++i) {
-    ChildRun run = run_measured(argv, dir.path.string());
-    if (!run.ok) return {run};
-    if (i >= warmups) runs.push_back(std::move(run));
-  }
-  return runs;
-}
-
-/// Median wall time and median peak RSS of `runs`.
-void child_medians(const std::vector<ChildRun>& runs, double& ms, double& peak_bytes) {
-  std::vector<double> times, peaks;
-  for (const ChildRun& r : runs) {
-    times.push_back(r.ms);
-    peaks.push_back(static_cast<double>(r.peak_bytes));
-  }
-  ms = median(times);
-  peak_bytes = median(peaks);
-}
-
-/// The Blender the io suite runs: `configured` (\throw InputError if it is not an
-/// executable), else `blender` on PATH, else empty (not installed).
-std::string blender_path(const std::string& configured) {
-  if (!configured.empty()) {
-    if (::access(configured.c_str(), X_OK) != 0) throw InputError(configured + ": no Blender executable there");
-    return configured;
-  }
-  const char* env = std::getenv("PATH");
-  std::istringstream dirs(env ? env : "");
-  std::string d;
-  while (std::getline(dirs, d, ':')) {
-    const std::string candidate = (fs::path(d.empty() ? "." : d) / "blender").string();
-    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-  }
-  return "";
-}
-
 /// The job script for ffdtool, written into `dir`; returns its path.
 std::string write_job_script(const TempFolder& dir) {
   const json script = {
@@ -319,30 +259,6 @@ json ffdtool_row(const Context& ctx, const Format& f, std::size_t vertices, cons
   return r;
 }
 
-/// The argv of a Blender run of blender_peer.py in `mode` with `args`.
-std::vector<std::string> blender_argv(const std::string& blender, const std::vector<std::string>& peer_args) {
-  std::vector<std::string> argv = {blender, "-b", "--factory-startup", "-noaudio", "-t", "1", "--python-exit-code",
-                                   "2", "-P", std::string(FFD_BENCH_SOURCE_DIR) + "/blender_peer.py", "--"};
-  argv.insert(argv.end(), peer_args.begin(), peer_args.end());
-  return argv;
-}
-
-/// The peer's `FFDBENCH_JSON {...}` line of a Blender run, parsed (null if absent).
-json peer_json(const ChildRun& run) {
-  const std::string prefix = "FFDBENCH_JSON ";
-  std::istringstream is(run.out);
-  std::string line;
-  while (std::getline(is, line))
-    if (line.rfind(prefix, 0) == 0) return json::parse(line.substr(prefix.size()), nullptr, false);
-  return nullptr;
-}
-
-/// Why a Blender run gave no result, for the row.
-std::string blender_failure(const ChildRun& run) {
-  const std::string err = last_line(run.err);
-  return "failed: " + (err.empty() ? last_line(run.out) : err);
-}
-
 /// The lattice arguments of the peer's `job` mode after IN OUT.
 std::vector<std::string> job_lattice_args() {
   std::vector<std::string> a;
@@ -365,24 +281,11 @@ json blender_job_row(const Context& ctx, const Format& f, std::size_t vertices, 
   std::vector<std::string> args = {"job", grid_file(dir, f, vertices), dir.file(std::string("blender-out-") + f.name + f.ext)};
   const std::vector<std::string> lattice = job_lattice_args();
   args.insert(args.end(), lattice.begin(), lattice.end());
-  const std::vector<ChildRun> runs = run_repeated(blender_argv(blender, args), dir, 0, ctx.quick ? 1 : kBlenderRepeats);
-  std::map<std::string, std::vector<double>> phases;
-  for (const ChildRun& run : runs) {
-    const json j = peer_json(run);
-    if (!run.ok || !j.is_object()) {
-      r["blender"] = blender_failure(run);
-      return r;
-    }
-    for (const char* key : {"import_ms", "setup_ms", "modifier_ms", "export_ms", "total_ms"})
-      phases[key].push_back(j.value(key, 0.0));
-    r["blender"] = j.value("blender", "");
-  }
-  double wall = 0, peak = 0;
-  child_medians(runs, wall, peak);
-  r["runs"] = runs.size();
-  r["blender_wall_ms"] = wall;
-  for (const auto& [key, values] : phases) r[key] = median(values);
-  r["peak_bytes"] = peak;
+  const json b = blender_medians(blender, args, dir, ctx.quick ? 1 : kBlenderRepeats,
+                                 {"import_ms", "setup_ms", "modifier_ms", "export_ms", "total_ms"});
+  r.update(b);
+  if (!b.contains("blender_wall_ms")) return r;
+  const double wall = b["blender_wall_ms"], peak = b["peak_bytes"];
   r["bytes_per_vertex"] = peak / vertices;
   r["ffdtool_ms"] = ffdtool_ms;
   r["ffdtool_speedup_wall"] = wall / ffdtool_ms;

@@ -65,12 +65,6 @@ constexpr MeshCase kArmadillo{"armadillo.off", 22886, {4.54, 3.57, 2.54, 1.97, 2
 constexpr MeshCase kBunny00{"bunny00.off", 53417, {3.69, 2.73, 2.19, 1.80, 2.30, 1.90}};
 constexpr MeshCase kElephant{"refined_elephant.off", 53417, {3.69, 2.73, 2.19, 1.80, 2.30, 1.90}};
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 /// The Table 1 row of k Catmull-Clark subdivisions of the unit cube.
 json memory_row(int k, int repeats) {
   GridComplex g;

@@ -1,8 +1,13 @@
-// Benchmark helpers: timing, mesh loading, subdivision to a target size.
+// Benchmark helpers: timing, mesh loading, subdivision to a target size, child runs of
+// ffdtool and Blender.
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Subdivision_method_3/subdivision_methods_3.h>
 
 #include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +19,10 @@
 #include "common/timer.h"
 #include "mesh/mesh_io.h"
 #include "mesh/halfedge_view_cgal.h"
+
+#ifndef FFD_BENCH_SOURCE_DIR
+#define FFD_BENCH_SOURCE_DIR "apps/ffdbench"
+#endif
 
 namespace ffd::bench {
 
@@ -124,6 +133,109 @@ PolygonSoup uv_sphere(int slices, int stacks, const Eigen::Vector3d& centre, dou
     }
   }
   return soup;
+}
+
+// Shared by the suites that run ffdtool and Blender as child processes (io, users).
+
+/// The median of `values` (the upper one of an even count, as median_ms).
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values.empty() ? 0 : values[values.size() / 2];
+}
+
+/// Writes `bytes` to `path`. \throw IoError if that fails.
+void write_file(const std::string& path, const std::string& bytes) {
+  std::ofstream os(path, std::ios::binary);
+  os.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!os.flush()) throw IoError(At{path}, "cannot write");
+}
+
+/// `argv` run `warmups` + `repeats` times; the runs after the warm-ups, or the first
+/// failed one alone.
+std::vector<ChildRun> run_repeated(const std::vector<std::string>& argv, const TempFolder& dir,
+                                   int warmups, int repeats) {
+  std::vector<ChildRun> runs;
+  for (int i = 0; i < warmups + std::max(1, repeats); ++i) {
+    ChildRun run = run_measured(argv, dir.path.string());
+    if (!run.ok) return {run};
+    if (i >= warmups) runs.push_back(std::move(run));
+  }
+  return runs;
+}
+
+/// Median wall time and median peak RSS of `runs`.
+void child_medians(const std::vector<ChildRun>& runs, double& ms, double& peak_bytes) {
+  std::vector<double> times, peaks;
+  for (const ChildRun& r : runs) {
+    times.push_back(r.ms);
+    peaks.push_back(static_cast<double>(r.peak_bytes));
+  }
+  ms = median(times);
+  peak_bytes = median(peaks);
+}
+
+/// The Blender the io and users suites run: `configured` (\throw InputError if it is not an
+/// executable), else `blender` on PATH, else empty (not installed).
+std::string blender_path(const std::string& configured) {
+  if (!configured.empty()) {
+    if (::access(configured.c_str(), X_OK) != 0) throw InputError(configured + ": no Blender executable there");
+    return configured;
+  }
+  const char* env = std::getenv("PATH");
+  std::istringstream dirs(env ? env : "");
+  std::string d;
+  while (std::getline(dirs, d, ':')) {
+    const std::string candidate = (std::filesystem::path(d.empty() ? "." : d) / "blender").string();
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+  }
+  return "";
+}
+
+/// The argv of a Blender run of blender_peer.py in `mode` with `args`.
+std::vector<std::string> blender_argv(const std::string& blender, const std::vector<std::string>& peer_args) {
+  std::vector<std::string> argv = {blender, "-b", "--factory-startup", "-noaudio", "-t", "1", "--python-exit-code",
+                                   "2", "-P", std::string(FFD_BENCH_SOURCE_DIR) + "/blender_peer.py", "--"};
+  argv.insert(argv.end(), peer_args.begin(), peer_args.end());
+  return argv;
+}
+
+/// The peer's `FFDBENCH_JSON {...}` line of a Blender run, parsed (null if absent).
+nlohmann::ordered_json peer_json(const ChildRun& run) {
+  const std::string prefix = "FFDBENCH_JSON ";
+  std::istringstream is(run.out);
+  std::string line;
+  while (std::getline(is, line))
+    if (line.rfind(prefix, 0) == 0) return nlohmann::ordered_json::parse(line.substr(prefix.size()), nullptr, false);
+  return nullptr;
+}
+
+/// Why a Blender run gave no result, for the row.
+std::string blender_failure(const ChildRun& run) {
+  const std::string err = last_line(run.err);
+  return "failed: " + (err.empty() ? last_line(run.out) : err);
+}
+
+/// The peer run `repeats` times: "blender" (its version, or why a run failed) and, when
+/// every run gave its JSON, "runs", "blender_wall_ms" and the medians of the peer's `keys`
+/// (in name order) and of the peak RSS ("peak_bytes").
+nlohmann::ordered_json blender_medians(const std::string& blender, const std::vector<std::string>& peer_args,
+                                       const TempFolder& dir, int repeats, const std::vector<std::string>& keys) {
+  nlohmann::ordered_json r = nlohmann::ordered_json::object();
+  const std::vector<ChildRun> runs = run_repeated(blender_argv(blender, peer_args), dir, 0, repeats);
+  std::map<std::string, std::vector<double>> phases;
+  for (const ChildRun& run : runs) {
+    const nlohmann::ordered_json j = peer_json(run);
+    if (!run.ok || !j.is_object()) return {{"blender", blender_failure(run)}};
+    for (const std::string& key : keys) phases[key].push_back(j.value(key, 0.0));
+    r["blender"] = j.value("blender", "");
+  }
+  double wall = 0, peak = 0;
+  child_medians(runs, wall, peak);
+  r["runs"] = runs.size();
+  r["blender_wall_ms"] = wall;
+  for (const auto& [key, values] : phases) r[key] = median(values);
+  r["peak_bytes"] = peak;
+  return r;
 }
 
 }  // namespace ffd::bench
