@@ -28,7 +28,10 @@ import time
 
 import numpy as np
 
-import ffdtool
+try:
+    import ffdtool
+except ImportError:  # bench_users_pygem.py imports this file for its PyGeM helpers alone
+    ffdtool = None
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from pygem_rbf_compare import load_pygem_modules  # noqa: E402
@@ -60,6 +63,17 @@ def load_pygem_ffd(source):
     return load_pygem_modules(source, ("deformation", "utils", "ffd")).FFD
 
 
+def pygem_moved_ffd(source):
+    """PyGeM's FFD with 4^3 control points on the box [0,1]^3 and point [1,1,1] moved by
+    MOVE: the suite's Bernstein lattice. PyGeM's mu are fractions of the box's length,
+    which is 1 here, so they are MOVE itself."""
+    ffd = load_pygem_ffd(source)([4, 4, 4])
+    ffd.box_origin = np.array(BOX["min"], dtype=float)
+    ffd.box_length = np.array(BOX["max"], dtype=float) - ffd.box_origin
+    ffd.array_mu_x[1, 1, 1], ffd.array_mu_y[1, 1, 1], ffd.array_mu_z[1, 1, 1] = MOVE
+    return ffd
+
+
 def module_rows(points, repeats):
     """d(x, out=...) as ffdbench times the kernel (into the same array each time), and
     d(x) into a new array each call."""
@@ -89,9 +103,7 @@ def call_overhead_us(calls=5000):
 
 
 def pygem_rows(points, source, repeats):
-    FFD = load_pygem_ffd(source)
-    ffd = FFD([4, 4, 4])
-    ffd.array_mu_x[1, 1, 1], ffd.array_mu_y[1, 1, 1], ffd.array_mu_z[1, 1, 1] = MOVE
+    ffd = pygem_moved_ffd(source)
     bernstein = lattices()["bernstein"]
     rows = []
     for n in (100_000, len(points)):
