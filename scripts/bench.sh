@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Runs the benchmarks and writes bench_out/bench.json (also printed).
-# Usage: scripts/bench.sh [--suite ffd|remesh|bcm|cholesky|io|pictures|multires|seam|deformers|compare|python|all] [--quick]
-# The io suite runs Blender side by side when `blender` is on PATH (not a setup.sh
+# Usage: scripts/bench.sh [--suite ffd|remesh|bcm|cholesky|io|pictures|multires|seam|deformers|compare|python|users|all] [--quick]
+# The io and users suites run Blender side by side when `blender` is on PATH (not a setup.sh
 # package: it is a benchmark peer, ~90 MB); without it those rows say it is missing.
+# The users suite runs PyGeM's FFD beside ffdtool when PYGEM_SOURCE names PyGeM's source
+# tree (github mathLab/PyGeM; no default); without it its rows say "PYGEM_SOURCE not set".
 # The real meshes come from ../shared/meshes when present, else from Debian's
 # libcgal-demo package (downloaded once with apt-get download, unpacked into .cache/).
 set -euo pipefail
@@ -25,8 +27,8 @@ suite=all
 for ((i = 1; i <= $#; i++)); do
   if [ "${!i}" = --suite ] && [ $i -lt $# ]; then j=$((i + 1)); suite="${!j}"; fi
 done
-if { [ "$suite" = io ] || [ "$suite" = all ]; } && ! command -v blender >/dev/null 2>&1; then
-  echo "bench: no blender on PATH; apt-get install blender gives the io suite's side-by-side rows"
+if { [ "$suite" = io ] || [ "$suite" = users ] || [ "$suite" = all ]; } && ! command -v blender >/dev/null 2>&1; then
+  echo "bench: no blender on PATH; apt-get install blender gives the io and users suites' side-by-side rows"
 fi
 mkdir -p bench_out
 build/apps/ffdbench/ffdbench --meshes "$meshes" --test-data test_data -o bench_out/bench.json "$@"

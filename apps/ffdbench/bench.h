@@ -133,5 +133,6 @@ void bench_seam(Context& ctx);
 void bench_deformers(Context& ctx);
 void bench_compare(Context& ctx);
 void bench_python(Context& ctx);
+void bench_users(Context& ctx);
 
 }  // namespace ffd::bench

@@ -26,6 +26,9 @@ const std::vector<Suite>& suites() {
       {"python", "the Python module's d(points) against the C++ kernel it calls, PyGeM's FFD (PYGEM_SOURCE) and "
                  "ffdtool.run in memory against `ffdtool run` from and to files",
        bench_python},
+      {"users", "what a command-line user pays per `ffdtool run` (wall, peak RSS, the stats' steps) against Blender's "
+                "job and Lattice modifier, PyGeM's FFD (PYGEM_SOURCE), octree moves and bcm frames",
+       bench_users},
   };
   return all;
 }
