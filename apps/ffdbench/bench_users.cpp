@@ -3,7 +3,7 @@
 // peer measured in the same run on the same files. Medians over ctx.repeats runs after a
 // warm-up run (which also brings the input into the page cache).
 // - sphere_job: a 1M-vertex UV sphere OBJ as a double-precision exporter writes it (17
-//   significant digits, vn lines), a cubic B-spline lattice of 4^3 cells on the AABB
+//   significant digits, no normals: ~90 MB), a cubic B-spline lattice of 4^3 cells on the AABB
 //   (padding 0.05) with its centre point moved, 1 and 2 threads: process wall time, peak
 //   RSS per vertex, the stats' read, move step and write; against Blender doing the same
 //   job with one thread (blender_peer.py `job`, as the io suite runs it).
@@ -106,24 +106,21 @@ json target(const char* what, double limit, bool met) { return {{what, limit}, {
 // ---------------------------------------------------------------------------------------
 // sphere_job, sphere_move_step
 
-/// Writes the UV sphere `soup` (unit-free, around `centre`) as a double-precision exporter
-/// does: v lines with 17 significant digits, vn lines (the sphere's exact normals), faces
-/// `f a//a b//b c//c`. ffdtool's own writer prints the shortest round-trip text instead,
-/// which is not what a user's file from elsewhere looks like.
-void write_sphere_obj(const std::string& path, const PolygonSoup& soup, const Eigen::Vector3d& centre) {
+/// Writes the UV sphere `soup` as a double-precision exporter does: v lines with 17
+/// significant digits and `f a b c` faces, no normals (the file: a scan or a CAD
+/// export often has none, and then a lattice job needs none). ffdtool's own writer prints
+/// the shortest round-trip text instead, which is not what a user's file from elsewhere
+/// looks like.
+void write_sphere_obj(const std::string& path, const PolygonSoup& soup) {
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) throw IoError(At{path}, "cannot create");
   std::vector<char> buffer(1 << 20);
   std::setvbuf(f, buffer.data(), _IOFBF, buffer.size());
   for (const Eigen::Vector3d& p : soup.positions) std::fprintf(f, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
-  for (const Eigen::Vector3d& p : soup.positions) {
-    const Eigen::Vector3d n = (p - centre).normalized();
-    std::fprintf(f, "vn %.17g %.17g %.17g\n", n[0], n[1], n[2]);
-  }
   for (std::size_t e = 0; e < soup.elements.size(); ++e) {
     std::fputc('f', f);
     const std::uint32_t* v = soup.elements.vertices(e);
-    for (std::uint32_t k = 0; k < soup.elements.degree(e); ++k) std::fprintf(f, " %u//%u", v[k] + 1, v[k] + 1);
+    for (std::uint32_t k = 0; k < soup.elements.degree(e); ++k) std::fprintf(f, " %u", v[k] + 1);
     std::fputc('\n', f);
   }
   const bool ok = std::fflush(f) == 0 && !std::ferror(f);
@@ -221,7 +218,7 @@ void sphere_rows(const Context& ctx, const std::string& ffdtool, const std::stri
   {
     const PolygonSoup soup = uv_sphere(slices, stacks, centre, 0.4);
     vertices = soup.positions.size();
-    write_sphere_obj(obj, soup, centre);
+    write_sphere_obj(obj, soup);
   }
   const double bytes = static_cast<double>(fs::file_size(obj));
   std::fprintf(stderr, "ffdbench: users: sphere job, %zu vertices, %.0f MB\n", vertices, bytes / 1e6);
