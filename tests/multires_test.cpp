@@ -66,6 +66,31 @@ TEST(VolumeSubdivision, StencilsAreAffineCombinations) {
     }
 }
 
+TEST(VolumeSubdivision, TheSparseAndOnePassSubdivisionsAreSubdivideFieldsBitForBit) {
+  // The octree's moves subdivide a field that is zero but near the moved points, skipping
+  // the new points that read only zeros; its small levels take the field and the matrix
+  // from one pass. Both must be subdivide_field's values exactly.
+  BunnyLattice b;
+  OctreeLattice lattice(b.box, b.x, options(3, 1));
+  const GridComplex& g = lattice.complex(3);
+  const GridComplex fine = refine(g);
+  Eigen::MatrixXd rest = lattice.rest_points(3), field = Eigen::MatrixXd::Zero(3, rest.cols());
+  std::vector<std::uint8_t> nonzero(g.num_points(), 0);
+  for (std::size_t p : {std::size_t{0}, g.num_points() / 2, g.num_points() - 1}) {
+    field.col(static_cast<Eigen::Index>(p)) = Eigen::Vector3d(0.3, -0.1, 0.2);
+    nonzero[p] = 1;
+  }
+  const auto cc = SubdivisionRule::CatmullClark;
+  const Eigen::MatrixXd sparse = subdivide_sparse_field(g, fine, field, nonzero, cc);
+  EXPECT_TRUE((sparse.array() == subdivide_field(g, fine, field, cc).array()).all());
+  EXPECT_GT((sparse.array() != 0).count(), 0);
+  Eigen::SparseMatrix<double, Eigen::RowMajor> S;
+  const Eigen::MatrixXd both = subdivide_field_and_matrix(g, fine, rest, cc, S);
+  EXPECT_TRUE((both.array() == subdivide_field(g, fine, rest, cc).array()).all());
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> reference = subdivision_matrix(g, fine.points, cc);
+  EXPECT_EQ(Eigen::MatrixXd(S), Eigen::MatrixXd(reference));
+}
+
 TEST(VolumeSubdivision, ARegularBoxLatticeStaysRegular) {
   // Linear precision: every rule (interior, boundary surface, sharp edges and points,
   // corners) reproduces a regular grid, so C^k of a box is the finer grid.

@@ -181,9 +181,9 @@ void OctreeLattice::ensure_subdivided(int l) const {
     level.sub.push_back(refine(level.sub[k - 1]));
     const auto points = static_cast<Eigen::Index>(level.sub[k].num_points());
     if (whole) {
-      level.fine.push_back(
-          subdivide_field(level.sub[k - 1], level.sub[k], level.fine[k - 1], SubdivisionRule::CatmullClark));
-      level.steps.push_back(subdivision_matrix(level.sub[k - 1], level.sub[k].points, SubdivisionRule::CatmullClark));
+      level.steps.emplace_back();
+      level.fine.push_back(subdivide_field_and_matrix(level.sub[k - 1], level.sub[k], level.fine[k - 1],
+                                                      SubdivisionRule::CatmullClark, level.steps.back()));
     } else {
       level.fine.emplace_back(3, points);  // written by ensure_rest, point by point
       level.written.emplace_back(static_cast<std::size_t>(points), 0);
@@ -295,7 +295,9 @@ void OctreeLattice::update_displacements(int l, const std::vector<std::int32_t>&
     field.col(local.point(g.points[static_cast<std::size_t>(ids[i])])) += change.col(static_cast<Eigen::Index>(i));
   for (int k = 1; k <= options_.cc_steps; ++k) {
     GridComplex finer = refine(local);
-    field = subdivide_field(local, finer, field, SubdivisionRule::CatmullClark);
+    std::vector<std::uint8_t> nonzero(local.num_points());
+    for (std::size_t q = 0; q < local.num_points(); ++q) nonzero[q] = !field.col(static_cast<Eigen::Index>(q)).isZero(0.0);
+    field = subdivide_sparse_field(local, finer, field, nonzero, SubdivisionRule::CatmullClark);
     for (std::size_t q = 0; q < finer.num_points(); ++q) {
       if (field.col(static_cast<Eigen::Index>(q)).isZero(0.0)) continue;
       level.disp[k].col(level.sub[k].point(finer.points[q])) += field.col(static_cast<Eigen::Index>(q));

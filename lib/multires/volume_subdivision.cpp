@@ -1,5 +1,9 @@
 #include "multires/volume_subdivision.h"
 
+#include <omp.h>
+
+#include <algorithm>
+
 namespace ffd {
 namespace {
 
@@ -183,6 +187,69 @@ Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fi
       for (const auto& [p, w] : stencil) out.col(f) += w * X.col(p);
     }
   }
+  return out;
+}
+
+Eigen::MatrixXd subdivide_sparse_field(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
+                                       const std::vector<std::uint8_t>& nonzero, SubdivisionRule rule) {
+  // A stencil reads coarse points within 1 node of the new point's coarse node `base`
+  // (node / 2) on every axis but the ones it spans (cells, faces, edges: up to base + 1):
+  // a Chebyshev ball of 2 around base holds them all. `reach` marks, over the coarse
+  // nodes' bounding range, the nodes within 2 of a non-zero point.
+  const GridIndex lo = coarse.lo, hi = coarse.hi;
+  const long long nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
+  std::vector<std::uint8_t> reach(static_cast<std::size_t>(nx * ny * nz), 0);
+  for (std::size_t p = 0; p < coarse.num_points(); ++p) {
+    if (!nonzero[p]) continue;
+    const GridIndex& c = coarse.points[p];
+    for (long long k = std::max<long long>(0, c[2] - lo[2] - 2); k <= std::min(nz - 1, c[2] - lo[2] + 2LL); ++k)
+      for (long long j = std::max<long long>(0, c[1] - lo[1] - 2); j <= std::min(ny - 1, c[1] - lo[1] + 2LL); ++j)
+        for (long long i = std::max<long long>(0, c[0] - lo[0] - 2); i <= std::min(nx - 1, c[0] - lo[0] + 2LL); ++i)
+          reach[static_cast<std::size_t>((k * ny + j) * nx + i)] = 1;
+  }
+  const auto reached = [&](const GridIndex& node) {
+    const long long i = (node[0] >> 1) - lo[0], j = (node[1] >> 1) - lo[1], k = (node[2] >> 1) - lo[2];
+    return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz && reach[static_cast<std::size_t>((k * ny + j) * nx + i)];
+  };
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(X.rows(), static_cast<Eigen::Index>(fine.num_points()));
+  const long long n = static_cast<long long>(fine.num_points());
+#pragma omp parallel
+  {
+    Stencil stencil;
+#pragma omp for schedule(static)
+    for (long long f = 0; f < n; ++f) {
+      if (!reached(fine.points[static_cast<std::size_t>(f)])) continue;
+      subdivision_stencil(coarse, fine.points[static_cast<std::size_t>(f)], rule, stencil);
+      for (const auto& [p, w] : stencil) out.col(f) += w * X.col(p);
+    }
+  }
+  return out;
+}
+
+Eigen::MatrixXd subdivide_field_and_matrix(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
+                                           SubdivisionRule rule, Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix) {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(X.rows(), static_cast<Eigen::Index>(fine.num_points()));
+  const long long n = static_cast<long long>(fine.num_points());
+  std::vector<std::vector<Eigen::Triplet<double>>> parts;
+#pragma omp parallel
+  {
+#pragma omp single
+    parts.resize(static_cast<std::size_t>(omp_get_num_threads()));
+    std::vector<Eigen::Triplet<double>>& mine = parts[static_cast<std::size_t>(omp_get_thread_num())];
+    Stencil stencil;
+#pragma omp for schedule(static)
+    for (long long f = 0; f < n; ++f) {
+      subdivision_stencil(coarse, fine.points[static_cast<std::size_t>(f)], rule, stencil);
+      for (const auto& [p, w] : stencil) {
+        out.col(f) += w * X.col(p);
+        mine.emplace_back(static_cast<int>(f), p, w);
+      }
+    }
+  }
+  std::vector<Eigen::Triplet<double>> all;  // in row order, as subdivision_matrix adds them
+  for (const auto& part : parts) all.insert(all.end(), part.begin(), part.end());
+  matrix.resize(static_cast<Eigen::Index>(fine.num_points()), static_cast<Eigen::Index>(coarse.num_points()));
+  matrix.setFromTriplets(all.begin(), all.end());
   return out;
 }
 

@@ -40,6 +40,18 @@ void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, Subdi
 Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
                                 SubdivisionRule rule);
 
+/// subdivide_field for a field that is zero but near a few coarse points: new points whose
+/// stencils read only zeros are left zero without computing them (the same values, bit
+/// for bit, as subdivide_field's). `nonzero`: per coarse point, whether X's column may be
+/// non-zero.
+Eigen::MatrixXd subdivide_sparse_field(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
+                                       const std::vector<std::uint8_t>& nonzero, SubdivisionRule rule);
+
+/// subdivide_field and subdivision_matrix(coarse, fine.points, rule) from one pass over
+/// the stencils (the field's values are subdivide_field's, bit for bit).
+Eigen::MatrixXd subdivide_field_and_matrix(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
+                                           SubdivisionRule rule, Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix);
+
 /// The same map as a matrix, for the new points at `nodes` (rows) from the coarse points
 /// (columns), a point's weights merged: with nodes = fine.points,
 /// subdivide_field(coarse, fine, X, rule) = (S * X^T)^T up to rounding.
