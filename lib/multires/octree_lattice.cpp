@@ -129,23 +129,32 @@ const Eigen::MatrixXd& OctreeLattice::deformation(int l) const {
   // until the next move, so that showing a level does not redo the coarser ones.
   if (deformation_.size() != levels_.size()) deformation_.assign(levels_.size(), Eigen::MatrixXd());
   Eigen::MatrixXd& delta = deformation_[static_cast<std::size_t>(l)];
-  if (delta.size() == 0)
-    delta = l == 0 ? Eigen::MatrixXd(levels_[0].delta)
-                   : Eigen::MatrixXd(subdivide_field(levels_[l - 1].sub[0], levels_[l].sub[0], deformation(l - 1),
-                                                     SubdivisionRule::Octree) +
-                                     Eigen::MatrixXd(levels_[l].delta));
+  if (delta.size() == 0) {
+    if (l == 0) {
+      delta = levels_[0].delta;
+    } else {
+      // The coarser deformation is zero but near the points moved so far: only the new
+      // points whose stencils reach those are computed (the same values).
+      const Eigen::MatrixXd& coarser = deformation(l - 1);
+      std::vector<std::uint8_t> nonzero(static_cast<std::size_t>(coarser.cols()));
+      for (Eigen::Index p = 0; p < coarser.cols(); ++p) nonzero[static_cast<std::size_t>(p)] = !coarser.col(p).isZero(0.0);
+      delta = subdivide_sparse_field(levels_[l - 1].sub[0], levels_[l].sub[0], coarser, nonzero, SubdivisionRule::Octree) +
+              Eigen::MatrixXd(levels_[l].delta);
+    }
+  }
   return delta;
 }
 
-/// The grid cells mark_changed marks for the points `ids` (in the grid, existing or not).
-static std::vector<GridIndex> marked_cells(const GridComplex& g, const std::vector<std::int32_t>& ids) {
+/// The grid cells mark_changed marks for the points `ids` (in the grid, existing or not),
+/// and `more` rings around them.
+static std::vector<GridIndex> marked_cells(const GridComplex& g, const std::vector<std::int32_t>& ids, int more = 0) {
   std::vector<GridIndex> out;
-  const int res = g.resolution;
+  const int res = g.resolution, below = 3 + more, above = 2 + more;
   for (std::int32_t id : ids) {
     const GridIndex& p = g.points[static_cast<std::size_t>(id)];
-    for (int k = std::max(0, p[2] - 3); k <= std::min(res - 1, p[2] + 2); ++k)
-      for (int j = std::max(0, p[1] - 3); j <= std::min(res - 1, p[1] + 2); ++j)
-        for (int i = std::max(0, p[0] - 3); i <= std::min(res - 1, p[0] + 2); ++i) out.push_back({i, j, k});
+    for (int k = std::max(0, p[2] - below); k <= std::min(res - 1, p[2] + above); ++k)
+      for (int j = std::max(0, p[1] - below); j <= std::min(res - 1, p[1] + above); ++j)
+        for (int i = std::max(0, p[0] - below); i <= std::min(res - 1, p[0] + above); ++i) out.push_back({i, j, k});
   }
   return out;
 }
@@ -164,7 +173,9 @@ OctreeMove OctreeLattice::move_level_points(int l, const std::vector<std::int32_
   ensure_subdivided(l);
   update_displacements(l, ids, change, report);
   mark_changed(l, ids, report);
-  if (level.ready) ensure_rest(l, marked_cells(level.sub[0], ids));
+  // The marked cells and one ring more, where locating a vertex of a marked cell may walk
+  // (bent cells near cuts and shrunk points): one subdivision instead of many small ones.
+  if (level.ready) ensure_rest(l, marked_cells(level.sub[0], ids, 1));
   level.moved = true;
   any_changed_ = any_changed_ || !ids.empty();
   return report;

@@ -1,5 +1,7 @@
 // OctreeLattice as a Warp: parameterization in the subdivided rest lattices and
 // relocation by the subdivided displacements (Ono et al. section 3.2).
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -212,15 +214,29 @@ void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, cons
 void OctreeLattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                    std::vector<std::uint32_t>& ids) const {
   if (!any_changed_) return;
-  for (Eigen::Index v = 0; v < in_pos.cols(); ++v) {
+  const auto changed = [&](Eigen::Index v) {
     const Eigen::Vector3d t = box_.to_local(in_pos.col(v));
-    if (!in_unit_cube(t, kInsideTolerance)) continue;
-    auto marked = [&](const std::vector<std::uint8_t>& changed, int res) { return changed[grid_slot(t, res)] != 0; };
-    bool any = false;
-    for (const Level& level : levels_) any = any || marked(level.marks.changed, level.marks.resolution);
-    for (const Local& entry : local_) any = any || marked(entry.marks.changed, entry.marks.resolution);
-    if (any) ids.push_back(static_cast<std::uint32_t>(v));
+    if (!in_unit_cube(t, kInsideTolerance)) return false;
+    auto marked = [&](const std::vector<std::uint8_t>& flags, int res) { return flags[grid_slot(t, res)] != 0; };
+    for (const Level& level : levels_)
+      if (marked(level.marks.changed, level.marks.resolution)) return true;
+    for (const Local& entry : local_)
+      if (marked(entry.marks.changed, entry.marks.resolution)) return true;
+    return false;
+  };
+  // Each thread over one contiguous range, appended in range order: the same list
+  // whatever the thread count.
+  std::vector<std::vector<std::uint32_t>> parts;
+#pragma omp parallel
+  {
+#pragma omp single
+    parts.resize(static_cast<std::size_t>(omp_get_num_threads()));
+    std::vector<std::uint32_t>& mine = parts[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(static)
+    for (Eigen::Index v = 0; v < in_pos.cols(); ++v)
+      if (changed(v)) mine.push_back(static_cast<std::uint32_t>(v));
   }
+  for (const std::vector<std::uint32_t>& part : parts) ids.insert(ids.end(), part.begin(), part.end());
 }
 
 bool OctreeLattice::can_act_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
