@@ -1,6 +1,9 @@
 #include "warp/bernstein_lattice.h"
 
+#include <Eigen/SVD>
+
 #include <algorithm>
+#include <cmath>
 
 #include "common/errors.h"
 
@@ -76,14 +79,14 @@ void bernstein_block(int n, const Lanes<L>& u, Lanes<L>* out) {
 // sum_i B_i(u) sum_j B_j(v) sum_k B_k(w) D_ijk per lane and coordinate, D the displacements
 // as [i][j][k][x, y, z]: k, then j, then i, as apply() sums. The three coordinates go
 // together, so each basis value is loaded once.
-void contract_block(const int* n, const double* D, const Block* const* w, Block (&acc)[3]) {
-  constexpr int L = BernsteinLattice::kBlock;
-  for (Block& a : acc) std::fill(a, a + L, 0.0);
+template <int L>
+void contract_block(const int* n, const double* D, const Lanes<L>* const* w, Lanes<L> (&acc)[3]) {
+  for (Lanes<L>& a : acc) std::fill(a, a + L, 0.0);
   for (int i = 0; i <= n[0]; ++i) {
-    Block si[3] = {};
+    Lanes<L> si[3] = {};
     for (int j = 0; j <= n[1]; ++j) {
       const double* row = D + 3 * (static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1);
-      Block sj[3] = {};
+      Lanes<L> sj[3] = {};
       for (int k = 0; k <= n[2]; ++k) {
         const double dx = row[3 * k], dy = row[3 * k + 1], dz = row[3 * k + 2];
 #pragma omp simd
@@ -191,7 +194,62 @@ void load_block(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vec
   }
 }
 
+bool zero_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& nrm, const std::vector<std::uint32_t>& ids, std::size_t first,
+                  int lanes) {
+  for (int l = 0; l < lanes; ++l)
+    if (!nrm.col(ids[first + l]).isZero(0.0)) return false;
+  return true;
+}
+
+// A block's positions, the value part of contract_jacobian_block (the same sums), its
+// normals zero; returns how many of its points lie in the box.
+template <int L>
+std::size_t positions_block(const int* n, const double* D, const BlockPoints<L>& p,
+                            const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
+                            std::size_t first, Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Ref<Eigen::Matrix3Xd>& out_nrm) {
+  Lanes<L> w[3][BernsteinLattice::kMaxDegree + 1];
+  for (int a = 0; a < 3; ++a) bernstein_block<L>(n[a], p.u[a], w[a]);
+  const Lanes<L>* const axes[3] = {w[0], w[1], w[2]};
+  Lanes<L> acc[3];
+  contract_block<L>(n, D, axes, acc);
+  std::size_t inside = 0;
+  for (int l = 0; l < p.lanes; ++l) {
+    const std::uint32_t v = ids[first + l];
+    inside += p.in[l];
+    for (int c = 0; c < 3; ++c) out_pos(c, v) = p.in[l] ? in_pos(c, v) + acc[c][l] : in_pos(c, v);
+    out_nrm.col(v).setZero();
+  }
+  return inside;
+}
+
 }  // namespace
+
+/// Whether no point of the box can fold: the derivative along box axis a is a Bernstein
+/// polynomial whose coefficients are n_a times the differences of neighbouring
+/// displacements, so |dD/du_a| <= n_a max |D_next - D| everywhere (convex hull), and
+/// J = I + G inv has det J >= (1 - r)^3 > 0 when r = |G|_F |inv|_2 < 1 (every eigenvalue
+/// lies within r of 1). With r < 0.99 the determinant is at least 1e-6, and the computed
+/// one is within ~1e-15 of it: it cannot come out non-positive.
+bool BernsteinLattice::fold_free(const std::vector<double>& D) const {
+  const int n[3] = {cells_[0], cells_[1], cells_[2]};
+  const auto at = [&](int i, int j, int k) {
+    return Eigen::Vector3d::Map(D.data() + 3 * ((static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1) + k));
+  };
+  double g2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    double most = 0;
+    for (int i = 0; i <= n[0]; ++i)
+      for (int j = 0; j <= n[1]; ++j)
+        for (int k = 0; k <= n[2]; ++k) {
+          const int next[3] = {i + (a == 0), j + (a == 1), k + (a == 2)};
+          if (next[0] > n[0] || next[1] > n[1] || next[2] > n[2]) continue;
+          most = std::max(most, (at(next[0], next[1], next[2]) - at(i, j, k)).norm());
+        }
+    g2 += (n[a] * most) * (n[a] * most);
+  }
+  const double inv2 = Eigen::JacobiSVD<Eigen::Matrix3d>(box_.inverse_axes()).singularValues()(0);
+  return std::sqrt(g2) * inv2 < 0.99;
+}
 
 std::vector<double> BernsteinLattice::packed_displacements() const {
   const int n[3] = {cells_[0], cells_[1], cells_[2]};
@@ -215,11 +273,18 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   std::size_t folded = 0, evaluated = 0;
   constexpr int L = kJacobianLanes;
   const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + L - 1) / L);
+  // Where no point can fold and no normal is to be carried (a point cloud's, or a run's
+  // that needs none: zero), the Jacobian is not needed: positions only.
+  const bool no_folds = fold_free(D);
 #pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t first = static_cast<std::size_t>(b) * L;
     BlockPoints<L> p;
     load_block(in_pos, ids, first, box_, p);
+    if (no_folds && zero_normals(in_nrm, ids, first, p.lanes)) {
+      evaluated += positions_block<L>(n, D.data(), p, in_pos, ids, first, out_pos, out_nrm);
+      continue;
+    }
     Lanes<L> w[3][kMaxDegree + 1], dw[3][kMaxDegree + 1];
     for (int a = 0; a < 3; ++a) bernstein_derivative_block<L>(n[a], p.u[a], w[a], dw[a]);
     const Lanes<L>* const axes[3] = {w[0], w[1], w[2]};
@@ -262,7 +327,7 @@ void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>&
     for (int a = 0; a < 3; ++a) bernstein_block<kBlock>(n[a], p.u[a], w[a]);
     const Block* const axes[3] = {w[0], w[1], w[2]};
     Block acc[3];
-    contract_block(n, D.data(), axes, acc);
+    contract_block<kBlock>(n, D.data(), axes, acc);
     for (int l = 0; l < p.lanes; ++l) {
       const std::uint32_t v = ids[first + l];
       for (int c = 0; c < 3; ++c) out_pos(c, v) = p.in[l] ? in_pos(c, v) + acc[c][l] : in_pos(c, v);
