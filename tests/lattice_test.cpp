@@ -212,36 +212,42 @@ TEST(Lattice, PositionsKernelsAgreeWithTheBatchPathAtAnyThreadCount) {
   }
 }
 
-TEST(BernsteinLattice, PointsWithoutNormalsSkipTheJacobianOnlyWhereNothingCanFold) {
+TEST(Lattice, PointsWithoutNormalsSkipTheJacobianOnlyWhereNothingCanFold) {
   // Zero normals (a point cloud, or a run that needs none) and a lattice whose derivative
-  // bound rules out folds: positions only. The positions are the Jacobian path's bit for
-  // bit (its value sums), the normals stay zero, and the fold count is the same: zero
-  // where the bound holds, and where it does not the Jacobian path runs and counts.
-  for (double size : {0.02, 0.6}) {
-    BernsteinLattice lattice(skewed_box(), {3, 4, 2});
-    perturb(lattice, size, 21);
-    lattice.prepare();
-    const Eigen::Matrix3Xd pts = random_inside(lattice.box(), 2001, 22);
-    std::vector<std::uint32_t> ids(pts.cols());
-    std::iota(ids.begin(), ids.end(), 0u);
-    const Eigen::Matrix3Xd zero = Eigen::Matrix3Xd::Zero(3, pts.cols()), nrm = random_unit(pts.cols(), 23);
-    Eigen::Matrix3Xd fast(3, pts.cols()), fast_n(3, pts.cols()), full(3, pts.cols()), full_n(3, pts.cols());
-    WarpCounts without, with;
-    lattice.apply(pts, zero, ids, fast, fast_n, without);
-    lattice.apply(pts, nrm, ids, full, full_n, with);
-    EXPECT_EQ(fast, full) << size;
-    EXPECT_TRUE(fast_n.isZero(0.0)) << size;
-    EXPECT_EQ(without.folded, with.folded) << size;
-    EXPECT_EQ(without.evaluated, with.evaluated) << size;
-    std::size_t folds = 0;
-    for (Eigen::Index v = 0; v < pts.cols(); ++v) {
-      Eigen::Matrix3d J;
-      lattice.apply(pts.col(v), &J);
-      folds += J.determinant() <= 0;
+  // bound rules out folds (fold_free): positions only. The positions are the Jacobian
+  // path's bit for bit, the normals stay zero, and the fold count is the same: zero where
+  // the bound holds, and where it does not the Jacobian path runs and counts.
+  for (const Case& c : all_lattices())
+    for (double size : {0.01, 0.6}) {
+      auto lattice = c.make(skewed_box());
+      perturb(*lattice, size, 21);
+      lattice->prepare();
+      const Eigen::Matrix3Xd pts = random_inside(lattice->box(), 2001, 22);
+      std::vector<std::uint32_t> ids(pts.cols());
+      std::iota(ids.begin(), ids.end(), 0u);
+      const Eigen::Matrix3Xd zero = Eigen::Matrix3Xd::Zero(3, pts.cols()), nrm = random_unit(pts.cols(), 23);
+      Eigen::Matrix3Xd fast(3, pts.cols()), fast_n(3, pts.cols()), full(3, pts.cols()), full_n(3, pts.cols());
+      WarpCounts without, with;
+      lattice->apply(pts, zero, ids, fast, fast_n, without);
+      lattice->apply(pts, nrm, ids, full, full_n, with);
+      EXPECT_EQ(fast, full) << c.name << " " << size;
+      EXPECT_TRUE(fast_n.isZero(0.0)) << c.name << " " << size;
+      EXPECT_EQ(without.folded, with.folded) << c.name << " " << size;
+      EXPECT_EQ(without.evaluated, with.evaluated) << c.name << " " << size;
+      std::size_t folds = 0;
+      for (Eigen::Index v = 0; v < pts.cols(); ++v) {
+        Eigen::Matrix3d J;
+        lattice->apply(pts.col(v), &J);
+        folds += J.determinant() <= 0;
+      }
+      EXPECT_EQ(with.folded, folds) << c.name << " " << size;
+      if (size < 0.05) {
+        EXPECT_TRUE(lattice->fold_free()) << c.name;  // the fast path ran
+      }
+      if (lattice->fold_free()) {
+        EXPECT_EQ(folds, 0u) << c.name;  // the bound is sound
+      }
     }
-    EXPECT_EQ(with.folded, folds) << size;
-    if (size > 0.5) EXPECT_GT(folds, 0u);  // the large move folds: the bound must not hold
-  }
 }
 
 TEST(Lattice, BatchIsBitIdenticalForAnyThreadCount) {

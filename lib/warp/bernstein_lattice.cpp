@@ -1,7 +1,5 @@
 #include "warp/bernstein_lattice.h"
 
-#include <Eigen/SVD>
-
 #include <algorithm>
 #include <cmath>
 
@@ -224,33 +222,6 @@ std::size_t positions_block(const int* n, const double* D, const BlockPoints<L>&
 
 }  // namespace
 
-/// Whether no point of the box can fold: the derivative along box axis a is a Bernstein
-/// polynomial whose coefficients are n_a times the differences of neighbouring
-/// displacements, so |dD/du_a| <= n_a max |D_next - D| everywhere (convex hull), and
-/// J = I + G inv has det J >= (1 - r)^3 > 0 when r = |G|_F |inv|_2 < 1 (every eigenvalue
-/// lies within r of 1). With r < 0.99 the determinant is at least 1e-6, and the computed
-/// one is within ~1e-15 of it: it cannot come out non-positive.
-bool BernsteinLattice::fold_free(const std::vector<double>& D) const {
-  const int n[3] = {cells_[0], cells_[1], cells_[2]};
-  const auto at = [&](int i, int j, int k) {
-    return Eigen::Vector3d::Map(D.data() + 3 * ((static_cast<std::size_t>(i) * (n[1] + 1) + j) * (n[2] + 1) + k));
-  };
-  double g2 = 0;
-  for (int a = 0; a < 3; ++a) {
-    double most = 0;
-    for (int i = 0; i <= n[0]; ++i)
-      for (int j = 0; j <= n[1]; ++j)
-        for (int k = 0; k <= n[2]; ++k) {
-          const int next[3] = {i + (a == 0), j + (a == 1), k + (a == 2)};
-          if (next[0] > n[0] || next[1] > n[1] || next[2] > n[2]) continue;
-          most = std::max(most, (at(next[0], next[1], next[2]) - at(i, j, k)).norm());
-        }
-    g2 += (n[a] * most) * (n[a] * most);
-  }
-  const double inv2 = Eigen::JacobiSVD<Eigen::Matrix3d>(box_.inverse_axes()).singularValues()(0);
-  return std::sqrt(g2) * inv2 < 0.99;
-}
-
 std::vector<double> BernsteinLattice::packed_displacements() const {
   const int n[3] = {cells_[0], cells_[1], cells_[2]};
   std::vector<double> D(3 * displacement_.size());  // [i][j][k][x, y, z]
@@ -275,7 +246,7 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + L - 1) / L);
   // Where no point can fold and no normal is to be carried (a point cloud's, or a run's
   // that needs none: zero), the Jacobian is not needed: positions only.
-  const bool no_folds = fold_free(D);
+  const bool no_folds = fold_free();
 #pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t first = static_cast<std::size_t>(b) * L;

@@ -58,8 +58,6 @@ protected:
 private:
   /// The displacements as [i][j][k][x, y, z], the kernels' order.
   std::vector<double> packed_displacements() const;
-  /// Whether det J > 0 at every point of the box, by a bound on the derivatives.
-  bool fold_free(const std::vector<double>& packed) const;
 };
 
 }  // namespace ffd

@@ -334,14 +334,26 @@ void evaluate_lanes(const CellKernel& k, const CellChunk& chunk, int cell, int a
   }
 }
 
-// Evaluates the chunk cell by cell, eight vertices at a time, and empties it.
+// Evaluates the chunk cell by cell, eight vertices at a time, and empties it. With
+// `no_folds` (Lattice::fold_free) and every normal of the chunk zero (a point cloud's, or
+// a run's that needs none), the Jacobian is not needed: positions only (the same
+// values), normals zero, and no fold to count.
 template <int D>
 void evaluate_chunk(const CellKernel& k, CellChunk& chunk, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                    const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, std::size_t& folded) {
-  chunk.sort(in_pos, k.out_nrm ? in_nrm : nullptr);
+                    const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, bool no_folds, std::size_t& folded) {
+  bool positions_only = false;
+  if (k.out_nrm && no_folds) {
+    positions_only = true;
+    for (int i = 0; i < chunk.count && positions_only; ++i) positions_only = in_nrm->col(chunk.vertex[i]).isZero(0.0);
+  }
+  const CellKernel positions{k.blocks, k.block_size, k.K, k.out_pos, nullptr};
+  const CellKernel& kernel = positions_only ? positions : k;
+  chunk.sort(in_pos, kernel.out_nrm ? in_nrm : nullptr);
   for (int cell = 0; cell < chunk.cells; ++cell)
     for (int at = chunk.cell_start[cell]; at < chunk.cell_start[cell + 1]; at += kLanes)
-      evaluate_lanes<D>(k, chunk, cell, at, std::min(kLanes, chunk.cell_start[cell + 1] - at), folded);
+      evaluate_lanes<D>(kernel, chunk, cell, at, std::min(kLanes, chunk.cell_start[cell + 1] - at), folded);
+  if (positions_only)
+    for (int i = 0; i < chunk.count; ++i) k.out_nrm->col(chunk.vertex[i]).setZero();
   chunk.clear();
 }
 
@@ -358,6 +370,7 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   const Eigen::Matrix3d& inv = box_.inverse_axes();
   const Eigen::Vector3d& origin = box_.origin();
   std::size_t folded = 0, evaluated = 0;
+  const bool no_folds = out_nrm && fold_free();
   constexpr std::ptrdiff_t kChunk = CellChunk::kSize;
   const std::ptrdiff_t n_ids = static_cast<std::ptrdiff_t>(ids.size());
   const std::ptrdiff_t chunks = (n_ids + kChunk - 1) / kChunk;
@@ -389,11 +402,11 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
         }
         ++evaluated;
         if (!chunk->add(v, block, local)) {
-          evaluate_chunk<D>(kernel, *chunk, in_pos, in_nrm, folded);
+          evaluate_chunk<D>(kernel, *chunk, in_pos, in_nrm, no_folds, folded);
           chunk->add(v, block, local);
         }
       }
-      evaluate_chunk<D>(kernel, *chunk, in_pos, in_nrm, folded);
+      evaluate_chunk<D>(kernel, *chunk, in_pos, in_nrm, no_folds, folded);
     }
   }
   counts.evaluated += evaluated;

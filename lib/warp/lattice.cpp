@@ -1,5 +1,6 @@
 #include "warp/lattice.h"
 
+#include <Eigen/SVD>
 #include <omp.h>
 
 #include <algorithm>
@@ -215,6 +216,60 @@ void Lattice::clear_changes() {
 // each axis's slab [-kBoxTolerance, 1 + kBoxTolerance].
 bool Lattice::can_act_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
   return box_.segment_meets(a, b, kBoxTolerance);
+}
+
+namespace {
+
+/// The largest value over [0, 1] (over the line, for a B-spline) of basis function i of
+/// the given degree: Bernstein's B_i^n peaks at u = i / n; a uniform B-spline of degree
+/// 0..3 at its centre (1, 1, 3/4, 2/3); 1 bounds any basis of a partition of unity.
+double basis_peak(Lattice::Basis basis, int degree, int i) {
+  if (basis == Lattice::Basis::Bernstein) {
+    if (degree == 0) return 1;
+    const double t = static_cast<double>(i) / degree;
+    double binomial = 1;
+    for (int k = 1; k <= i; ++k) binomial = binomial * (degree - i + k) / k;
+    return binomial * std::pow(t, i) * std::pow(1 - t, degree - i);  // pow(0, 0) = 1
+  }
+  constexpr double kPeak[] = {1, 1, 0.75, 2.0 / 3.0};
+  return degree < 4 ? kPeak[degree] : 1;
+}
+
+}  // namespace
+
+// Along box axis a, both bases' derivative is a spline (polynomial) of one degree less
+// whose coefficients are cells_[a] times the differences of neighbouring displacements
+// (Bernstein: n (D_i+1 - D_i) with B_i^(n-1), n = cells_; uniform B-spline:
+// (D_i+1 - D_i) / h, h = 1 / cells_). So |dD/du_a| <= cells_[a] times the smaller of the
+// largest difference (convex hull) and the sum of each difference times the peak of its
+// basis function (a few moved points: far tighter). Then J = I + G inv has
+// det J >= (1 - r)^3 > 0 when r = |G|_F |inv|_2 < 1 (every eigenvalue lies within r of
+// 1). With r < 0.99 the determinant is at least 1e-6, and the computed one is within
+// ~1e-15 of it: it cannot come out non-positive.
+bool Lattice::fold_free() const {
+  const Index3 d = degree();
+  double g2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    double most = 0, sum = 0;
+    for (int k = first_[2]; k < first_[2] + count_[2]; ++k)
+      for (int j = first_[1]; j < first_[1] + count_[1]; ++j)
+        for (int i = first_[0]; i < first_[0] + count_[0]; ++i) {
+          const Index3 at{i, j, k};
+          Index3 next = at;
+          ++next[a];
+          if (next[a] >= first_[a] + count_[a]) continue;
+          const double step = (displacement_[flat(next)] - displacement_[flat(at)]).norm();
+          if (step == 0) continue;
+          double peak = 1;
+          for (int b = 0; b < 3; ++b) peak *= basis_peak(basis(), b == a ? d[b] - 1 : d[b], at[b] - first_[b]);
+          most = std::max(most, step);
+          sum += step * peak;
+        }
+    const double column = cells_[a] * std::min(most, sum);
+    g2 += column * column;
+  }
+  const double inv2 = Eigen::JacobiSVD<Eigen::Matrix3d>(box_.inverse_axes()).singularValues()(0);
+  return std::sqrt(g2) * inv2 < 0.99;
 }
 
 double Lattice::feature_size() const {

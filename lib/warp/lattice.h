@@ -105,6 +105,9 @@ public:
   bool can_act_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override;
   /// The smallest cell extent: min over the axes of box edge length / cells.
   double feature_size() const override;
+  /// Whether det J > 0 at every point of the box, by a bound on the derivatives (then a
+  /// batch apply needs no Jacobian for points whose normals are zero).
+  bool fold_free() const;
 
   /// Number of polynomial pieces per axis: the B-spline's cells, one for Bernstein.
   virtual Index3 pieces() const = 0;
