@@ -29,6 +29,7 @@ using test::without_measurements;
 using test::quoted;
 using test::read_file;
 using test::run_tool;
+using test::script_with;
 using test::temp_folder;
 using test::write_file;
 
@@ -36,8 +37,6 @@ std::string run_args(const std::string& mesh, const std::string& script, const s
   return "run " + quoted(mesh) + " " + quoted(script) + " -o " + quoted(dir + "/out.obj") + " --stats " + quoted(dir + "/stats.json") +
          (extra.empty() ? "" : " " + extra);
 }
-
-std::string script_with(const std::string& steps) { return R"({"version": 1, "steps": [)" + steps + "]}"; }
 
 const Eigen::Vector3d kBack(1.24, 6.29, 1.05), kEar(0.0, 9.65, -1.36);
 

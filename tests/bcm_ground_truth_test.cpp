@@ -16,6 +16,7 @@
 
 #include "bcm/bcm_editor.h"
 #include "bcm/cotan_laplacian.h"
+#include "bcm_test_util.h"
 #include "mesh/build_mesh.h"
 #include "test_meshes.h"
 
@@ -172,22 +173,17 @@ std::vector<std::uint32_t> free_of(const std::vector<std::uint32_t>& support, co
 }
 
 // A 9-dof pose about the handle's centroid: a 25° turn, an uneven scale and a lift.
-struct Pose {
-  Eigen::Matrix3d linear;
-  Eigen::Vector3d translation;
-};
-
-Pose handle_pose(const Mesh& mesh, const BcmHandle& handle) {
+test::Pose handle_pose(const Mesh& mesh, const BcmHandle& handle) {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (std::uint32_t v : handle.vertices) centre += mesh.positions().col(v) / static_cast<double>(handle.vertices.size());
-  Pose pose;
+  test::Pose pose;
   pose.linear = Eigen::AngleAxisd(25 * M_PI / 180, Eigen::Vector3d(1, 2, 0.5).normalized()).toRotationMatrix() *
                 Eigen::Vector3d(1.1, 0.9, 1.2).asDiagonal();
   pose.translation = centre + Eigen::Vector3d(0.05, -0.03, 0.2) - pose.linear * centre;
   return pose;
 }
 
-Eigen::Matrix3Xd posed_target(const Mesh& mesh, const BcmHandle& handle, const Pose& pose) {
+Eigen::Matrix3Xd posed_target(const Mesh& mesh, const BcmHandle& handle, const test::Pose& pose) {
   Eigen::Matrix3Xd target = mesh.positions();
   for (std::uint32_t v : handle.vertices) target.col(v) = pose.linear * target.col(v) + pose.translation;
   return target;
@@ -252,7 +248,7 @@ TEST(BcmGroundTruth, EditorEqualsTheDenseDefinitionForEveryOrder) {
   const auto support = patch_support();
   const auto handles = patch_handles();
   const auto free = free_of(support, handles);
-  const Pose pose = handle_pose(mesh, handles[0]);
+  const test::Pose pose = handle_pose(mesh, handles[0]);
   const Eigen::Matrix3Xd target = posed_target(mesh, handles[0], pose);
   const DenseLaplacian lap = dense_laplacian(soup);
   for (int k = 1; k <= 3; ++k) {
@@ -301,7 +297,7 @@ TEST(BcmGroundTruth, PositiveWeightsDropTheNegativeOnesAndTheEditorFollows) {
   const Mesh mesh = build_mesh(soup, "patch");
   const auto support = patch_support();
   const auto handles = patch_handles();
-  const Pose pose = handle_pose(mesh, handles[0]);
+  const test::Pose pose = handle_pose(mesh, handles[0]);
   const Eigen::Matrix3Xd target = posed_target(mesh, handles[0], pose);
   for (int k = 1; k <= 3; ++k) {
     SCOPED_TRACE("k = " + std::to_string(k));

@@ -28,6 +28,7 @@ using test::without_measurements;
 using test::quoted;
 using test::read_file;
 using test::run_tool;
+using test::script_with;
 using test::temp_folder;
 using test::write_file;
 using test::expect_one_error_line;
@@ -226,12 +227,10 @@ const char* kGoodScript = R"({"version": 1, "steps": [
   {"op": "lattice", "name": "body", "cells": [4, 4, 4]},
   {"op": "move", "lattice": "body", "points": [{"index": [2, 2, 2], "by": [0, 0.1, 0]}]}]})";
 
-std::string run_args(const std::string& mesh, const std::string& script, const std::string& output,
-                     const std::string& stats) {
+std::string run_stats_args(const std::string& mesh, const std::string& script, const std::string& output,
+                           const std::string& stats) {
   return "run " + quoted(mesh) + " " + quoted(script) + " -o " + quoted(output) + " --stats " + quoted(stats);
 }
-
-std::string script_with(const std::string& steps) { return R"({"version": 1, "steps": [)" + steps + "]}"; }
 
 TEST(CliRun, BadInputExitsTwoWithOneLineAndWritesNothing) {
   const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
@@ -241,7 +240,7 @@ TEST(CliRun, BadInputExitsTwoWithOneLineAndWritesNothing) {
     return [=](const std::string& in, const std::string& out) {
       if (!mesh_text.empty()) write_file(in + "/" + mesh_name, mesh_text);
       write_file(in + "/script.json", script);
-      return run_args(in + "/" + mesh_name, in + "/script.json", out + "/out.obj", out + "/stats.json");
+      return run_stats_args(in + "/" + mesh_name, in + "/script.json", out + "/out.obj", out + "/stats.json");
     };
   };
   const std::vector<BadRun> cases = {
@@ -276,14 +275,14 @@ TEST(CliRun, BadInputExitsTwoWithOneLineAndWritesNothing) {
        [&](const std::string& in, const std::string& out) {
          write_file(in + "/mesh.obj", triangle);
          write_file(in + "/script.json", kGoodScript);
-         return run_args(in + "/mesh.obj", in + "/script.json", out + "/missing/out.obj", out + "/stats.json");
+         return run_stats_args(in + "/mesh.obj", in + "/script.json", out + "/missing/out.obj", out + "/stats.json");
        },
        {"missing/out.obj", "does not exist"}},
       {"unknown output extension",
        [&](const std::string& in, const std::string& out) {
          write_file(in + "/mesh.obj", triangle);
          write_file(in + "/script.json", kGoodScript);
-         return run_args(in + "/mesh.obj", in + "/script.json", out + "/out.xyz", out + "/stats.json");
+         return run_stats_args(in + "/mesh.obj", in + "/script.json", out + "/out.xyz", out + "/stats.json");
        },
        {"out.xyz", "unknown mesh format"}},
       {"selection picks nothing (found at run time, after a save)",
@@ -296,7 +295,7 @@ TEST(CliRun, BadInputExitsTwoWithOneLineAndWritesNothing) {
               {"op": "move", "lattice": "body", "select": {"box": {"min": [100, 100, 100], "max": [101, 101, 101]}},
                "transform": {"scale": 2}}
               )"));
-         return run_args(in + "/mesh.obj", in + "/script.json", out + "/out.obj", out + "/stats.json") + " --quiet";
+         return run_stats_args(in + "/mesh.obj", in + "/script.json", out + "/out.obj", out + "/stats.json") + " --quiet";
        },
        {"{in}/script.json: /steps/3/select:", "picks no movable lattice point"}},
   };
@@ -330,13 +329,13 @@ TEST(CliRun, ASaveThatWouldOverwriteTheInputIsRefused) {
       {"op": "move", "lattice": "body", "points": [{"index": [2, 2, 2], "by": [0, 1, 0]}]},
       {"op": "save", "path": "in.obj"})"));
   std::string err;
-  EXPECT_EQ(run_tool(run_args(dir + "/in.obj", dir + "/script.json", dir + "/out.obj", dir + "/stats.json"), nullptr, &err), 2);
+  EXPECT_EQ(run_tool(run_stats_args(dir + "/in.obj", dir + "/script.json", dir + "/out.obj", dir + "/stats.json"), nullptr, &err), 2);
   expect_one_error_line(err, {dir + "/script.json: /steps/2", "in.obj", "overwrite"});
   EXPECT_EQ(files_in(dir), (std::set<std::string>{"in.obj", "script.json"}));
   EXPECT_EQ(read_file(dir + "/in.obj"), mesh);
 
   // The stats file may not overwrite an input either.
-  EXPECT_EQ(run_tool(run_args(dir + "/in.obj", dir + "/script.json", dir + "/out.obj", dir + "/in.obj"), nullptr, &err), 2);
+  EXPECT_EQ(run_tool(run_stats_args(dir + "/in.obj", dir + "/script.json", dir + "/out.obj", dir + "/in.obj"), nullptr, &err), 2);
   EXPECT_EQ(read_file(dir + "/in.obj"), mesh);
   EXPECT_EQ(files_in(dir), (std::set<std::string>{"in.obj", "script.json"}));
 }

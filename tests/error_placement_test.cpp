@@ -22,19 +22,18 @@ using test::data;
 using test::files_in;
 using test::quoted;
 using test::read_file;
+using test::script_with;
 using test::temp_folder;
 using test::write_file;
 
-std::string script_with(const std::string& steps) { return R"({"version": 1, "steps": [)" + steps + "]}"; }
-
-struct Outcome {
+struct LimitedRun {
   int exit = -1;
   std::string err;
 };
 
 // Runs `ffdtool run MESH dir/s.json -o dir/out/out.obj` with `limits` (shell commands such
 // as "ulimit -v 100000") applied first.
-Outcome run_limited(const std::string& dir, const std::string& mesh, const std::string& limits) {
+LimitedRun run_limited(const std::string& dir, const std::string& mesh, const std::string& limits) {
   const std::string command = "(" + limits + "; exec " FFD_TOOL " run " + quoted(mesh) + " " +
                               quoted(dir + "/s.json") + " -o " + quoted(dir + "/out/out.obj") + " --quiet) 2>" +
                               quoted(dir + "/stderr");
@@ -43,7 +42,7 @@ Outcome run_limited(const std::string& dir, const std::string& mesh, const std::
 }
 
 // Checks one error line "ffdtool: error: <place>: ..." naming `place` and `mentions`.
-void expect_error(const Outcome& o, int exit, const std::string& place, const std::string& mention) {
+void expect_error(const LimitedRun& o, int exit, const std::string& place, const std::string& mention) {
   EXPECT_EQ(o.exit, exit) << o.err;
   EXPECT_EQ(o.err.rfind("ffdtool: error: " + place + ": ", 0), 0u) << o.err;
   EXPECT_NE(o.err.find(mention), std::string::npos) << o.err;
@@ -63,7 +62,7 @@ TEST(ErrorPlacement, InputErrorAboutAnAlgorithmsArgumentNamesItsKey) {
   const std::string dir = case_folder("place_input", script_with(R"({"op": "bcm", "name": "e",
       "support": {"sphere": {"center": [1.24, 6.29, 1.05], "radius": 1.0}},
       "handles": [{"name": "h", "select": {"sphere": {"center": [0, 9.65, -1.36], "radius": 0.5}}}]})"));
-  const Outcome o = run_limited(dir, data("bunny.obj"), "true");
+  const LimitedRun o = run_limited(dir, data("bunny.obj"), "true");
   expect_error(o, 2, dir + "/s.json: /steps/0/handles/0/select", "outside the support");
   EXPECT_TRUE(files_in(dir + "/out").empty());
 }
@@ -73,7 +72,7 @@ TEST(ErrorPlacement, InputErrorAboutAnAlgorithmsArgumentNamesItsKey) {
 TEST(ErrorPlacement, InputErrorFromTheWarpCodeNamesTheBox) {
   const std::string dir = case_folder("place_box", script_with(R"({"op": "lattice", "name": "b", "cells": [4, 4, 4],
       "box": {"origin": [0, 0, 0], "axes": [[1, 0, 0], [2, 0, 0], [0, 0, 1]]}})"));
-  const Outcome o = run_limited(dir, data("bunny.obj"), "true");
+  const LimitedRun o = run_limited(dir, data("bunny.obj"), "true");
   expect_error(o, 2, dir + "/s.json: /steps/0/box", "degenerate");
 }
 
@@ -84,7 +83,7 @@ TEST(ErrorPlacement, AFrozenLatticeNamesTheLatticeKey) {
       {"op": "bcm", "name": "e", "support": {"sphere": {"center": [1.24, 6.29, 1.05], "radius": 2.0}},
        "handles": [{"name": "h", "select": {"near": [1.24, 6.29, 1.05]}}]},
       {"op": "move", "lattice": "b", "points": [{"index": [2, 2, 2], "by": [0, 0, 1]}]})"));
-  const Outcome o = run_limited(dir, data("bunny.obj"), "true");
+  const LimitedRun o = run_limited(dir, data("bunny.obj"), "true");
   expect_error(o, 2, dir + "/s.json: /steps/2/lattice", "frozen into the mesh by the surface edit at /steps/1");
 }
 
@@ -133,7 +132,7 @@ TEST(ErrorPlacement, SolverErrorExitsThreeAtTheStep) {
   write_file(dir + "/grid.obj", test::grid_obj(200));
   bool solver_failed = false;
   for (int kb = 240000; kb >= 60000 && !solver_failed; kb -= 10000) {
-    const Outcome o = run_limited(dir, dir + "/grid.obj",
+    const LimitedRun o = run_limited(dir, dir + "/grid.obj",
                                   "export OMP_NUM_THREADS=1 MALLOC_ARENA_MAX=1; ulimit -v " + std::to_string(kb));
     ASSERT_TRUE(o.exit == 0 || o.exit == 3) << "limit " << kb << " KB: exit " << o.exit << ": " << o.err;
     if (o.exit == 0) {
@@ -154,7 +153,7 @@ TEST(ErrorPlacement, SolverErrorExitsThreeAtTheStep) {
 TEST(ErrorPlacement, IoErrorExitsThreeNamingTheFile) {
   const std::string dir = case_folder("place_io", script_with(R"({"op": "lattice", "name": "b", "cells": [4, 4, 4]},
       {"op": "save", "path": "mid.obj"})"));
-  const Outcome o = run_limited(dir, data("bunny.obj"), "trap '' XFSZ; ulimit -f 64");
+  const LimitedRun o = run_limited(dir, data("bunny.obj"), "trap '' XFSZ; ulimit -f 64");
   expect_error(o, 3, dir + "/out/mid.obj", "cannot write: File too large");
   EXPECT_TRUE(files_in(dir + "/out").empty());
 }

@@ -17,12 +17,12 @@ namespace {
 
 using test::skewed_box;
 
-struct Case {
+struct LatticeCase {
   std::string name;
   std::function<std::unique_ptr<Lattice>(const Parallelepiped&)> make;
 };
 
-std::vector<Case> all_lattices() {
+std::vector<LatticeCase> all_lattices() {
   return {
       {"bspline1", [](const Parallelepiped& b) { return std::make_unique<BSplineLattice>(b, Index3{3, 4, 2}, 1); }},
       {"bspline2", [](const Parallelepiped& b) { return std::make_unique<BSplineLattice>(b, Index3{4, 3, 5}, 2); }},
@@ -61,7 +61,7 @@ Eigen::Matrix3Xd random_inside(const Parallelepiped& box, int n, unsigned seed) 
 }
 
 TEST(Lattice, PartitionOfUnityAndLinearPrecisionPerAxis) {
-  for (const Case& c : all_lattices()) {
+  for (const LatticeCase& c : all_lattices()) {
     auto lattice = c.make(skewed_box());
     for (int axis = 0; axis < 3; ++axis)
       for (int s = 0; s <= 200; ++s) {
@@ -90,7 +90,7 @@ TEST(Lattice, PartitionOfUnityAndLinearPrecisionPerAxis) {
 
 TEST(Lattice, RestLatticeIsIdentityInFullForm) {
   // Eq. 1 with the rest control points (not the displacement form): sum_ijk B B B P° = x.
-  for (const Case& c : all_lattices()) {
+  for (const LatticeCase& c : all_lattices()) {
     auto lattice = c.make(skewed_box());
     const Eigen::Matrix3Xd pts = random_inside(lattice->box(), 200, 3);
     for (int v = 0; v < pts.cols(); ++v) {
@@ -109,7 +109,7 @@ TEST(Lattice, RestLatticeIsIdentityInFullForm) {
 }
 
 TEST(Lattice, UnmovedLatticeIsExactIdentity) {
-  for (const Case& c : all_lattices()) {
+  for (const LatticeCase& c : all_lattices()) {
     auto lattice = c.make(skewed_box());
     const Eigen::Matrix3Xd pts = random_inside(lattice->box(), 500, 4);
     const Eigen::Matrix3Xd nrm = random_unit(pts.cols(), 40);
@@ -129,7 +129,7 @@ TEST(Lattice, UnmovedLatticeIsExactIdentity) {
 }
 
 TEST(Lattice, JacobianMatchesCentralDifferences) {
-  for (const Case& c : all_lattices()) {
+  for (const LatticeCase& c : all_lattices()) {
     auto lattice = c.make(skewed_box());
     perturb(*lattice, 0.15, 5);
     // Stay away from cell boundaries of the degree-1 spline (its derivative jumps there).
@@ -152,7 +152,7 @@ TEST(Lattice, JacobianMatchesCentralDifferences) {
 TEST(Lattice, BatchEvaluationMatchesSinglePoint) {
   // The B-spline batch path evaluates per-cell power coefficients by Horner's rule; the
   // single-point path contracts basis weights: two independent formulas.
-  for (const Case& c : all_lattices()) {
+  for (const LatticeCase& c : all_lattices()) {
     auto lattice = c.make(skewed_box());
     perturb(*lattice, 0.1, 8);
     lattice->prepare();
@@ -181,7 +181,7 @@ TEST(Lattice, PositionsKernelsAgreeWithTheBatchPathAtAnyThreadCount) {
   // the Bernstein one sums as apply() does, block by block; both agree with the batch
   // path to 1e-14 of the box, leave points outside untouched, and give the same bits for
   // one thread and two, with or without Jacobians.
-  for (const Case& c : all_lattices()) {
+  for (const LatticeCase& c : all_lattices()) {
     auto lattice = c.make(skewed_box());
     perturb(*lattice, 0.1, 12);
     lattice->prepare();

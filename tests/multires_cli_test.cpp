@@ -46,7 +46,7 @@ std::string shared_mesh(const std::string& name) {
   const std::string var = shared_mesh(name);                                    \
   if (var.empty()) GTEST_SKIP() << "../shared/meshes/" << name << " is missing, and libcgal-demo too"
 
-const std::string kLattice =
+const std::string kOctreeLattice =
     R"({"op": "lattice", "name": "auto", "basis": "octree", "box": {"fit": "obb", "padding": 0.02}, )"
     R"("levels": 4, "shrink": 0.002, "cc_steps": 2})";
 
@@ -58,8 +58,8 @@ struct ToolRun {
 
 // Writes the script to a fresh folder `name` and runs it on `mesh`, output dir/`out`,
 // stats dir/stats.json.
-ToolRun run_script(const std::string& name, const std::string& mesh, const std::vector<std::string>& steps,
-               const std::string& out = "out.off", const std::string& extra = "") {
+ToolRun run_octree_script(const std::string& name, const std::string& mesh, const std::vector<std::string>& steps,
+                          const std::string& out = "out.off", const std::string& extra = "") {
   ToolRun r;
   r.dir = temp_folder("multires_" + name);
   write_file(r.dir + "/s.json", script(steps));
@@ -179,7 +179,7 @@ std::string vec(const Eigen::Vector3d& v) { return json::array({v[0], v[1], v[2]
 
 // Moves at levels 1 and 3, the nets of levels 2 and 3, a remesh and the mesh's save.
 std::vector<std::string> end_to_end_steps() {
-  return {kLattice,
+  return {kOctreeLattice,
           R"({"op": "move", "lattice": "auto", "level": 1, "select": {"near": [0.5, 0.5, 0]},
               "transform": {"translate": [0, 0.05, 0]}})",
           R"({"op": "move", "lattice": "auto", "level": 3, "points": [{"index": [4, 4, 4], "by": [0.02, 0, 0.01]}]})",
@@ -191,7 +191,7 @@ std::vector<std::string> end_to_end_steps() {
 
 TEST(MultiresCli, EndToEndOnTheBunny) {
   SHARED_MESH_OR_SKIP(bunny, "bunny00.off");
-  const ToolRun r = run_script("e2e", bunny, end_to_end_steps());
+  const ToolRun r = run_octree_script("e2e", bunny, end_to_end_steps());
   ASSERT_EQ(r.code, 0) << r.err;
   const json& steps = r.stats["steps"];
   ASSERT_EQ(steps.size(), 7u);
@@ -227,9 +227,9 @@ TEST(MultiresCli, EndToEndOnTheBunny) {
 
 TEST(MultiresCli, UnmovedOctreeLatticeWritesTheInputBack) {
   SHARED_MESH_OR_SKIP(bunny, "bunny00.off");
-  const ToolRun r = run_script(
+  const ToolRun r = run_octree_script(
       "identity", bunny,
-      {kLattice, R"({"op": "move", "lattice": "auto", "level": 1, "points": [{"index": [1, 1, 1], "by": [0, 0, 0]}]})",
+      {kOctreeLattice, R"({"op": "move", "lattice": "auto", "level": 1, "points": [{"index": [1, 1, 1], "by": [0, 0, 0]}]})",
        R"({"op": "move", "lattice": "auto", "level": 3, "points": [{"index": [4, 4, 4], "by": [0, 0, 0]}]})"});
   ASSERT_EQ(r.code, 0) << r.err;
   std::string report;
@@ -239,8 +239,8 @@ TEST(MultiresCli, UnmovedOctreeLatticeWritesTheInputBack) {
 
 TEST(MultiresCli, OneAndTwoThreadsWriteTheSameBytes) {
   SHARED_MESH_OR_SKIP(bunny, "bunny00.off");
-  const ToolRun one = run_script("threads1", bunny, end_to_end_steps(), "out.off", "--threads 1");
-  const ToolRun two = run_script("threads2", bunny, end_to_end_steps(), "out.off", "--threads 2");
+  const ToolRun one = run_octree_script("threads1", bunny, end_to_end_steps(), "out.off", "--threads 1");
+  const ToolRun two = run_octree_script("threads2", bunny, end_to_end_steps(), "out.off", "--threads 2");
   ASSERT_EQ(one.code, 0) << one.err;
   ASSERT_EQ(two.code, 0) << two.err;
   for (const std::string file : {"out.off", "mesh.off", "lat2.obj", "lat3.obj"}) {
@@ -255,8 +255,8 @@ TEST(MultiresCli, ALevel4PointMovesOnlyVerticesNearIt) {
   SHARED_MESH_OR_SKIP(bunny, "bunny00.off");
   const Mesh input = read_mesh(bunny);
   const Eigen::Vector3d at = input.positions().col(100);
-  const ToolRun r = run_script("locality", bunny,
-                           {kLattice, R"({"op": "move", "lattice": "auto", "level": 4, "select": {"near": )" +
+  const ToolRun r = run_octree_script("locality", bunny,
+                                      {kOctreeLattice, R"({"op": "move", "lattice": "auto", "level": 4, "select": {"near": )" +
                                           vec(at) + R"(}, "transform": {"translate": [0, 0.03, 0]}})"});
   ASSERT_EQ(r.code, 0) << r.err;
   const json& move = r.stats["steps"][1];
@@ -284,9 +284,9 @@ bool inside_box(const json& box, const Eigen::Vector3d& p, double slack) {
 
 TEST(MultiresCli, EnclosingLatticeCarriesTheLocalOne) {
   SHARED_MESH_OR_SKIP(bunny, "bunny00.off");
-  const ToolRun r = run_script(
+  const ToolRun r = run_octree_script(
       "enclose", bunny,
-      {kLattice, R"({"op": "move", "lattice": "auto", "level": 3, "points": [{"index": [4, 4, 4], "by": [0.02, 0, 0.01]}]})",
+      {kOctreeLattice, R"({"op": "move", "lattice": "auto", "level": 3, "points": [{"index": [4, 4, 4], "by": [0.02, 0, 0.01]}]})",
        R"({"op": "save", "path": "before.obj", "lattice": "auto", "level": 3})", R"({"op": "save", "path": "local.off"})",
        R"({"op": "lattice", "name": "global", "basis": "octree", "enclose": "auto", "levels": 1})",
        R"({"op": "save", "path": "mid.obj", "lattice": "auto", "level": 3})",
@@ -316,13 +316,13 @@ TEST(MultiresCli, EnclosingLatticeCarriesTheLocalOne) {
   EXPECT_GT(changed.size(), 37706u / 2) << "global's level-1 move should move the mesh";
 }
 
-struct BadScript {
+struct BadOctreeScript {
   std::string name;
   std::vector<std::string> steps;
   std::vector<std::string> parts;  // what the error line must mention
 };
 
-std::vector<BadScript> bad_scripts() {
+std::vector<BadOctreeScript> bad_scripts() {
   const std::string small = R"({"op": "lattice", "name": "auto", "basis": "octree", "levels": 3})";
   const std::string zero = R"(, "points": [{"index": [1, 1, 1], "by": [0, 0, 0]}]})";
   return {
@@ -343,7 +343,7 @@ std::vector<BadScript> bad_scripts() {
       {"enclose", {small, R"({"op": "lattice", "name": "g", "basis": "octree", "enclose": "nope", "levels": 1})"},
        {"/steps/1/enclose", "nope"}},
       // Found only when running: [8, 8, 8] of level 4 is inside the bunny, its cells cut.
-      {"cut_point", {kLattice, R"({"op": "save", "path": "net.obj", "lattice": "auto"})",
+      {"cut_point", {kOctreeLattice, R"({"op": "save", "path": "net.obj", "lattice": "auto"})",
                      R"({"op": "move", "lattice": "auto", "level": 4, "points": [{"index": [8, 8, 8], "by": [0, 0, 0.1]}]})"},
        {"/steps/2/points/0/index", "[8,8,8]"}},
   };
@@ -351,7 +351,7 @@ std::vector<BadScript> bad_scripts() {
 
 TEST(MultiresCli, BadOctreeScriptsAreInputErrorsThatWriteNothing) {
   SHARED_MESH_OR_SKIP(bunny, "bunny00.off");
-  for (const BadScript& bad : bad_scripts()) {
+  for (const BadOctreeScript& bad : bad_scripts()) {
     SCOPED_TRACE(bad.name);
     const std::string dir = temp_folder("multires_bad_" + bad.name);
     write_file(dir + "/s.json", script(bad.steps));
@@ -368,9 +368,9 @@ TEST(MultiresCli, DragAtALevelReachesItsTarget) {
   SHARED_MESH_OR_SKIP(bunny, "bunny00.off");
   const Mesh input = read_mesh(bunny);
   const Eigen::Vector3d target = input.positions().col(100) + Eigen::Vector3d(0.01, 0.02, -0.01);
-  const ToolRun r = run_script(
+  const ToolRun r = run_octree_script(
       "drag", bunny,
-      {kLattice, R"({"op": "drag", "lattice": "auto", "level": 3, "points": [{"vertex": 100, "to": )" + vec(target) + "}]}"});
+      {kOctreeLattice, R"({"op": "drag", "lattice": "auto", "level": 3, "points": [{"vertex": 100, "to": )" + vec(target) + "}]}"});
   ASSERT_EQ(r.code, 0) << r.err;
   const json& drag = r.stats["steps"][1];
   EXPECT_EQ(drag["level"], 3);
@@ -388,7 +388,7 @@ TEST(MultiresCli, FiveLevelsOnOtherMeshesCutCells) {
   for (const std::string name : {"armadillo.off", "refined_elephant.off"}) {
     SCOPED_TRACE(name);
     SHARED_MESH_OR_SKIP(mesh, name);
-    const ToolRun r = run_script(
+    const ToolRun r = run_octree_script(
         "levels5_" + name, mesh,
         {R"({"op": "lattice", "name": "auto", "basis": "octree", "box": {"fit": "obb", "padding": 0.02}, "levels": 5,
              "shrink": 0.002})",
@@ -419,15 +419,15 @@ TEST(MultiresCli, LocalSubdivisionOfCgalsElephant) {
   const std::string subdivide = R"({"op": "subdivide", "lattice": "auto", "level": 2, "cells": {"indices": [[1, 1, 1], [2, 1, 1]]}})";
   // Subdividing moves nothing, even after the coarser level moved: the new level starts
   // from the level as shown.
-  const ToolRun still = run_script("subdivide_still", mesh,
-                                   {lattice, R"({"op": "move", "lattice": "auto", "level": 4, "points": [{"index": [4, 4, 4], "by": [0, 0, 0]}]})", subdivide},
+  const ToolRun still = run_octree_script("subdivide_still", mesh,
+                                          {lattice, R"({"op": "move", "lattice": "auto", "level": 4, "points": [{"index": [4, 4, 4], "by": [0, 0, 0]}]})", subdivide},
                                    "out.off");
   ASSERT_NE(still.code, 0) << "level 4 does not exist before the subdivide step";
-  const ToolRun zero = run_script("subdivide_zero", mesh,
-                                  {lattice, subdivide, R"({"op": "move", "lattice": "auto", "level": 4, "points": [{"index": [4, 4, 4], "by": [0, 0, 0]}]})"});
+  const ToolRun zero = run_octree_script("subdivide_zero", mesh,
+                                         {lattice, subdivide, R"({"op": "move", "lattice": "auto", "level": 4, "points": [{"index": [4, 4, 4], "by": [0, 0, 0]}]})"});
   ASSERT_EQ(zero.code, 0) << zero.err;
   EXPECT_TRUE(changed_vertices(input, read_mesh(zero.dir + "/out.off")).empty());
-  const ToolRun r = run_script(
+  const ToolRun r = run_octree_script(
       "subdivide_elephant", mesh,
       {lattice, subdivide,
        R"({"op": "move", "lattice": "auto", "level": 4, "points": [{"index": [4, 3, 3], "by": [0.0, 0.03, 0.0]}]})",

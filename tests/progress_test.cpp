@@ -388,7 +388,7 @@ TEST(BcmProgress, ReportsEachPhaseInOrderAndChangesNothing) {
 }
 
 // A remesh, a bcm setup and a transform with saved frames on the bundled bunny.
-const char* const kScript = R"({"version": 1, "steps": [
+const char* const kStagesScript = R"({"version": 1, "steps": [
   {"op": "lattice", "name": "body", "cells": [6, 6, 6], "box": {"fit": "aabb", "padding": 0.05}},
   {"op": "move", "lattice": "body", "select": {"box": {"min": [-10, 3, 1], "max": [10, 20, 20]}},
    "transform": {"translate": [0, 0, 1.2]}},
@@ -400,10 +400,10 @@ const char* const kScript = R"({"version": 1, "steps": [
 const std::vector<std::string> kOps = {"lattice", "move", "remesh", "bcm", "transform"};
 const std::vector<std::string> kOutputs = {"out.obj", "frame_0.obj", "frame_1.obj", "frame_2.obj"};
 
-// `ffdtool run` of kScript on the bunny into a fresh folder `name`; returns the exit code.
+// `ffdtool run` of kStagesScript on the bunny into a fresh folder `name`; returns the exit code.
 int run_script_in(const std::string& name, const std::string& extra, std::string& dir, std::string& err) {
   dir = test::temp_folder(name);
-  test::write_file(dir + "/script.json", kScript);
+  test::write_file(dir + "/script.json", kStagesScript);
   return test::run_tool("run " + test::quoted(test::data("bunny.obj")) + " " + test::quoted(dir + "/script.json") +
                             " -o " + test::quoted(dir + "/out.obj") + " --stats " + test::quoted(dir + "/stats.json") +
                             (extra.empty() ? "" : " " + extra),
@@ -512,7 +512,7 @@ TEST(ProgressCli, OnATerminalStepsShorterThanASecondShowNothing) {
   ASSERT_EQ(run_script_in("progress_tty_none", "--progress none", dir, none), 0) << none;
   // The same run with stderr on a pseudo-terminal (util-linux script) and the default.
   const std::string tty_dir = test::temp_folder("progress_tty_auto");
-  test::write_file(tty_dir + "/script.json", kScript);
+  test::write_file(tty_dir + "/script.json", kStagesScript);
   const std::string command = std::string(FFD_TOOL) + " run " + test::quoted(test::data("bunny.obj")) + " " +
                               test::quoted(tty_dir + "/script.json") + " -o " + test::quoted(tty_dir + "/out.obj") +
                               " --stats " + test::quoted(tty_dir + "/stats.json");

@@ -31,7 +31,7 @@ double covered_fraction(const Image& im) {
   return double(n) / (double(im.width) * im.height);
 }
 
-std::string png_bytes(const Image& im) {
+std::string encoded_png(const Image& im) {
   std::ostringstream os;
   write_png(os, im);
   return os.str();
@@ -81,24 +81,24 @@ TEST(Render, OneAndTwoThreadsGiveTheSameBytes) {
     o.flat = perspective;
     set_size(o, "333x217");  // bands that do not divide the height
     const Mesh mesh = test::bunny();
-    EXPECT_EQ(png_bytes(render_on(1, mesh, o)), png_bytes(render_on(2, mesh, o))) << perspective;
-    EXPECT_EQ(png_bytes(render_on(2, mesh, o)), png_bytes(render_on(7, mesh, o))) << perspective;
+    EXPECT_EQ(encoded_png(render_on(1, mesh, o)), encoded_png(render_on(2, mesh, o))) << perspective;
+    EXPECT_EQ(encoded_png(render_on(2, mesh, o)), encoded_png(render_on(7, mesh, o))) << perspective;
   }
 }
 
 TEST(Render, ADeformedMeshAndOtherViewsRenderDifferently) {
   RenderOptions o;
   set_size(o, "320x240");
-  const std::string base = png_bytes(render_mesh(test::bunny(), o));
-  EXPECT_NE(base, png_bytes(render_mesh(sheared_bunny(), o)));
+  const std::string base = encoded_png(render_mesh(test::bunny(), o));
+  EXPECT_NE(base, encoded_png(render_mesh(sheared_bunny(), o)));
   for (const char* view : {"front", "side", "top", "10,-20"}) {
     RenderOptions v = o;
     set_view(v, view);
-    EXPECT_NE(base, png_bytes(render_mesh(test::bunny(), v))) << view;
+    EXPECT_NE(base, encoded_png(render_mesh(test::bunny(), v))) << view;
   }
   RenderOptions p = o;
   p.perspective = true;
-  EXPECT_NE(base, png_bytes(render_mesh(test::bunny(), p)));
+  EXPECT_NE(base, encoded_png(render_mesh(test::bunny(), p)));
   RenderOptions n = o;
   n.color = ColorMode::Normals;
   const Image normals = render_mesh(test::bunny(), n);

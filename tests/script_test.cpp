@@ -23,7 +23,7 @@ using json = nlohmann::json;
 // A script whose steps are `steps` (a JSON array's inside).
 std::string with_steps(const std::string& steps) { return R"({"version": 1, "steps": [)" + steps + "]}"; }
 
-const char* kLattice = R"({"op": "lattice", "name": "body", "cells": [6, 6, 6]})";
+const char* kBodyLattice = R"({"op": "lattice", "name": "body", "cells": [6, 6, 6]})";
 
 // Expects parse_script to throw InputError "s.json: <pointer>: ..." mentioning every part.
 void expect_script_error(const std::string& text, const std::string& pointer,
@@ -54,7 +54,7 @@ TEST(ScriptParse, AcceptsTheDemoScript) {
 TEST(ScriptParse, UnknownOrMissingOp) {
   expect_script_error(with_steps(R"({"op": "frobnicate"})"), "/steps/0/op",
                       {"unknown op", "\"frobnicate\"", "lattice", "move", "drag", "save"});
-  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": 3})"), "/steps/1/op", {"unknown op", "3"});
+  expect_script_error(with_steps(std::string(kBodyLattice) + R"(, {"op": 3})"), "/steps/1/op", {"unknown op", "3"});
   expect_script_error(with_steps(R"({"name": "body", "cells": [6, 6, 6]})"), "/steps/0",
                       {"missing key 'op'", "lattice", "save"});
   // An "op" key in a selection or a box (fuzz_run found these) names no op: the message
@@ -70,7 +70,7 @@ TEST(ScriptParse, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   expect_script_error(with_steps(R"({"op": "lattice", "name": "body", "cells": [6, 6, 6], "colour": 1})"),
                       "/steps/0/colour", {"unknown key 'colour'", "'name'", "'basis'", "'cells'", "'box'"});
   expect_script_error(R"({"version": 1, "steps": [], "author": "me"})", "/author", {"unknown key 'author'", "'steps'"});
-  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+  expect_script_error(with_steps(std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body",
       "points": [{"index": [3, 3, 3], "by": [0, 0, 1], "weight": 2}]})"),
                       "/steps/1/points/0/weight", {"unknown key 'weight'", "'index'", "'by'", "'to'"});
   expect_script_error(with_steps(R"({"op": "lattice", "name": "body", "cells": [6, 6, 6],
@@ -100,7 +100,7 @@ TEST(ScriptParse, WrongTypesSayWhatWasExpected) {
   expect_script_error(R"({"version": 2, "steps": []})", "/version", {"expected 1", "found 2"});
   expect_script_error(R"({"version": 1})", "/", {"missing key 'steps'"});
   expect_script_error(R"([1, 2])", "/", {"expected an object"});
-  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+  expect_script_error(with_steps(std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body",
       "points": [{"index": [3, 3, 3], "by": [0, "up", 1]}]})"),
                       "/steps/1/points/0/by/1", {"expected a number", "\"up\""});
 }
@@ -113,11 +113,11 @@ TEST(ScriptParse, LatticeShapeAndIndexChecks) {
   const std::string move = R"(, {"op": "move", "lattice": "body", "points": [{"index": [2, 2, 2], "by": [0, 0, 1]},
                                   {"index": )";
   // Out of range and not movable (the influenced zone): both name the movable range.
-  expect_script_error(with_steps(std::string(kLattice) + move + R"([9, 3, 3], "by": [0, 0, 1]}]})"),
+  expect_script_error(with_steps(std::string(kBodyLattice) + move + R"([9, 3, 3], "by": [0, 0, 1]}]})"),
                       "/steps/1/points/1/index", {"[9,3,3]", "i in [2, 4], j in [2, 4], k in [2, 4]"});
-  expect_script_error(with_steps(std::string(kLattice) + move + R"([3, 1, 3], "to": [0, 0, 1]}]})"),
+  expect_script_error(with_steps(std::string(kBodyLattice) + move + R"([3, 1, 3], "to": [0, 0, 1]}]})"),
                       "/steps/1/points/1/index", {"[3,1,3]", "not movable", "i in [2, 4]"});
-  expect_script_error(with_steps(std::string(kLattice) + move + R"([3, 3, -1], "to": [0, 0, 1]}]})"),
+  expect_script_error(with_steps(std::string(kBodyLattice) + move + R"([3, 3, -1], "to": [0, 0, 1]}]})"),
                       "/steps/1/points/1/index", {"not movable"});
   // Bernstein: every point of the (cells + 1)^3 grid may move; beyond it may not.
   const char* bernstein = R"({"op": "lattice", "name": "body", "basis": "bernstein", "cells": [3, 2, 4]})";
@@ -132,27 +132,27 @@ TEST(ScriptParse, LatticeShapeAndIndexChecks) {
                                  R"([5, 2, 2], "to": [0, 0, 1]}]})"),
                       "/steps/1/points/1/index", {"i in [1, 4]"});
   // Giving both 'by' and 'to', or neither.
-  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+  expect_script_error(with_steps(std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body",
       "points": [{"index": [3, 3, 3], "by": [0, 0, 1], "to": [0, 0, 1]}]})"),
                       "/steps/1/points/0", {"only one of", "'by'", "'to'"});
-  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+  expect_script_error(with_steps(std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body",
       "points": [{"index": [3, 3, 3]}]})"),
                       "/steps/1/points/0", {"'by'", "'to'"});
 }
 
 TEST(ScriptParse, LatticeNamesMustBeCreatedOnceBeforeUse) {
   expect_script_error(with_steps(R"({"op": "move", "lattice": "body", "points": [{"index": [3, 3, 3], "by": [0, 0, 1]}]},)" +
-                                 std::string(kLattice)),
+                                 std::string(kBodyLattice)),
                       "/steps/0/lattice", {"no lattice named 'body'"});
-  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "drag", "lattice": "head",
+  expect_script_error(with_steps(std::string(kBodyLattice) + R"(, {"op": "drag", "lattice": "head",
       "points": [{"at": [0, 0, 0], "to": [0, 0, 1]}]})"),
                       "/steps/1/lattice", {"no lattice named 'head'"});
-  expect_script_error(with_steps(std::string(kLattice) + ", " + kLattice), "/steps/1/name",
+  expect_script_error(with_steps(std::string(kBodyLattice) + ", " + kBodyLattice), "/steps/1/name",
                       {"'body' already exists"});
 }
 
 TEST(ScriptParse, SelectionsNeedExactlyOneKind) {
-  const std::string head = std::string(kLattice) + R"(, {"op": "move", "lattice": "body", "transform": {"scale": 2}, "select": )";
+  const std::string head = std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body", "transform": {"scale": 2}, "select": )";
   // Two kinds in one selection object.
   try {
     parse_script(with_steps(head + R"({"sphere": {"center": [0, 0, 0], "radius": 1}, "box": {"min": [0, 0, 0], "max": [1, 1, 1]}}})"),
@@ -176,15 +176,15 @@ TEST(ScriptParse, SelectionsNeedExactlyOneKind) {
   expect_script_error(with_steps(head + R"({"sphere": {"center": [0, 0, 0]}}})"), "/steps/1/select/sphere",
                       {"missing key 'radius'"});
   // move needs either points or select + transform.
-  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body"})"), "/steps/1",
+  expect_script_error(with_steps(std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body"})"), "/steps/1",
                       {"'points'", "'select'"});
-  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body", "select": {"near": [0, 0, 0]}})"),
+  expect_script_error(with_steps(std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body", "select": {"near": [0, 0, 0]}})"),
                       "/steps/1", {"'transform'"});
 }
 
 TEST(ScriptParse, SelectionFilesMustExistAndParse) {
   const std::string dir = test::temp_folder("script_selection");
-  const std::string step = std::string(kLattice) +
+  const std::string step = std::string(kBodyLattice) +
                            R"(, {"op": "lattice", "name": "head", "cells": [4, 4, 4], "box": {"fit": "aabb", "select": {"file": ")";
   expect_script_error(with_steps(step + R"(missing.txt"}}})"), "/steps/1/box/select/file",
                       {"no such selection file", "missing.txt"}, dir + "/s.json");
@@ -226,7 +226,7 @@ TEST(ScriptParse, InvalidJsonNamesLineAndColumn) {
 }
 
 TEST(ScriptParse, DefaultsAreFilledIn) {
-  const Script script = parse_script(with_steps(std::string(kLattice) + R"(,
+  const Script script = parse_script(with_steps(std::string(kBodyLattice) + R"(,
       {"op": "lattice", "name": "b2", "cells": [4, 4, 4], "box": {"fit": "obb"}},
       {"op": "move", "lattice": "body", "select": {"near": [0, 0, 0]}, "transform": {"translate": [0, 1, 0]}},
       {"op": "move", "lattice": "body", "select": {"near": [0, 0, 0]}, "transform": {}})"),
@@ -365,10 +365,10 @@ TEST(ScriptParse, PointAndCellIndicesAreCheckedBeforeAnyMesh) {
   EXPECT_NO_THROW(parse_script(with_steps(octree + R"(, {"op": "move", "lattice": "o", "level": 1,
       "select": {"indices": [[0, 1, 2], [2, 2, 2]]}, )" + translate), "s.json"));
   // B-spline: a number for [i, j, k], and a point outside the movable range.
-  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+  expect_script_error(with_steps(std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body",
       "points": [{"index": 7, "by": [0, 0, 1]}]})"),
                       "/steps/1/points/0/index", {"expected a lattice index [i, j, k]"});
-  expect_script_error(with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+  expect_script_error(with_steps(std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body",
       "select": {"indices": [[3, 3, 3], [0, 3, 3]]}, )" + translate),
                       "/steps/1/select/indices/1", {"point [0,3,3] is not movable", "i in [2, 4]"});
   // Scattered points: [i, j, k] for a number, and a number past the list.
@@ -401,7 +401,7 @@ TEST(ScriptParse, PointAndCellIndicesAreCheckedBeforeAnyMesh) {
 TEST(ScriptParse, ASelectionFileForControlPointsIsRefused) {
   const std::string dir = test::temp_folder("script_selection_file");
   test::write_file(dir + "/sel.txt", "1\n2\n");
-  test::write_file(dir + "/s.json", with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+  test::write_file(dir + "/s.json", with_steps(std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body",
       "select": [{"indices": [[3, 3, 3]]}, {"file": "sel.txt"}], "transform": {"translate": [0.1, 0, 0]}})"));
   test::expect_input_error([&] { load_script(dir + "/s.json"); }, dir + "/s.json: /steps/1/select/1: ",
                            {"a selection file lists mesh vertices, not lattice points"});
@@ -415,7 +415,7 @@ TEST(ScriptParse, ASelectionFileForControlPointsIsRefused) {
 // [i, j, k], [i, j, k] for an idw deformer's number.
 TEST(ScriptParse, ValidateRefusesIndicesOfTheWrongForm) {
   const std::string dir = test::temp_folder("validate_index_form");
-  test::write_file(dir + "/bspline.json", with_steps(std::string(kLattice) + R"(, {"op": "move", "lattice": "body",
+  test::write_file(dir + "/bspline.json", with_steps(std::string(kBodyLattice) + R"(, {"op": "move", "lattice": "body",
       "points": [{"index": 3, "by": [0, 0, 1]}]})"));
   std::string out, err;
   EXPECT_EQ(test::run_tool("validate " + test::quoted(dir + "/bspline.json"), &out, &err), 2);

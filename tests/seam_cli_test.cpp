@@ -30,15 +30,15 @@ std::string seam_mesh(const std::string& name) {
   return name == "bunny" ? test::data("bunny.obj") : test::cgal_mesh(name + ".off");
 }
 
-struct ToolRun {
+struct SeamRun {
   int code = -1;
   std::string dir, err;
   json stats;
 };
 
-ToolRun run_script(const std::string& dir, const std::string& mesh, const std::string& script,
-               const std::string& out = "out.off", const std::string& extra = "") {
-  ToolRun r;
+SeamRun run_seam_script(const std::string& dir, const std::string& mesh, const std::string& script,
+                        const std::string& out = "out.off", const std::string& extra = "") {
+  SeamRun r;
   r.dir = dir;
   r.code = run_tool("run " + quoted(mesh) + " " + quoted(script) + " -o " + quoted(dir + "/" + out) + " --stats " +
                         quoted(dir + "/stats.json") + " --quiet " + extra,
@@ -83,7 +83,7 @@ TEST_P(SeamGolden, OutputsMatchTheGoldensWrittenBeforeTheSeam) {
   for (const char* threads : {"1", "2"}) {
     const std::string dir = temp_folder("seam_" + name + "_" + threads);
     if (one_thread.empty()) one_thread = dir;
-    const ToolRun r = run_script(dir, mesh, test::data("seam/" + name + ".json"), "drag.off", std::string("--threads ") + threads);
+    const SeamRun r = run_seam_script(dir, mesh, test::data("seam/" + name + ".json"), "drag.off", std::string("--threads ") + threads);
     ASSERT_EQ(r.code, 0) << r.err;
     for (const std::string out : {"move.off", "drag.off", "net.obj", "net0.obj"}) {
       const std::string stem = out.substr(0, out.find('.'));
@@ -122,11 +122,11 @@ TEST(MovePositions, ASavedNetLoadedBackIsTheIdentity) {
         {kOctree, kOctreeMoves, R"(, "level": 2)"}}) {
     const std::string dir = temp_folder("positions_identity");
     write_file(dir + "/a.json", script({lattice, moves, R"({"op": "save", "path": "net.obj", "lattice": "L")" + level + "}"}));
-    const ToolRun a = run_script(dir, test::data("bunny.obj"), dir + "/a.json", "a.off");
+    const SeamRun a = run_seam_script(dir, test::data("bunny.obj"), dir + "/a.json", "a.off");
     ASSERT_EQ(a.code, 0) << a.err;
     write_file(dir + "/b.json", script({lattice, moves, R"({"op": "move", "lattice": "L", "positions": {"file": "net.obj"})" + level + "}"}));
     fs::copy_file(dir + "/net.obj", dir + "/net_in.obj");
-    const ToolRun b = run_script(dir, test::data("bunny.obj"), dir + "/b.json", "b.off");
+    const SeamRun b = run_seam_script(dir, test::data("bunny.obj"), dir + "/b.json", "b.off");
     ASSERT_EQ(b.code, 0) << b.err;
     expect_same_mesh(dir + "/a.off", dir + "/b.off");
     EXPECT_EQ(b.stats["steps"].back()["points_moved"], 0);
@@ -139,14 +139,14 @@ TEST(MovePositions, ASavedNetLoadedBackIsTheIdentity) {
 TEST(MovePositions, AnEditedNetMovesTheEditedPoints) {
   const std::string dir = temp_folder("positions_edit");
   write_file(dir + "/a.json", script({kBSpline, R"({"op": "save", "path": "net.obj", "lattice": "L"})"}));
-  ASSERT_EQ(run_script(dir, test::data("bunny.obj"), dir + "/a.json", "a.off").code, 0);
+  ASSERT_EQ(run_seam_script(dir, test::data("bunny.obj"), dir + "/a.json", "a.off").code, 0);
   std::string net = read_file(dir + "/net.obj");
   write_file(dir + "/b.json", script({kBSpline, R"({"op": "move", "lattice": "L", "points": [{"index": [3, 3, 3], "to": [1.5, 7.25, -0.5]}]})",
                                       R"({"op": "save", "path": "net_moved.obj", "lattice": "L"})"}));
-  const ToolRun b = run_script(dir, test::data("bunny.obj"), dir + "/b.json", "b.off");
+  const SeamRun b = run_seam_script(dir, test::data("bunny.obj"), dir + "/b.json", "b.off");
   ASSERT_EQ(b.code, 0) << b.err;
   write_file(dir + "/c.json", script({kBSpline, R"({"op": "move", "lattice": "L", "positions": {"file": "net_moved.obj"}})"}));
-  const ToolRun c = run_script(dir, test::data("bunny.obj"), dir + "/c.json", "c.off");
+  const SeamRun c = run_seam_script(dir, test::data("bunny.obj"), dir + "/c.json", "c.off");
   ASSERT_EQ(c.code, 0) << c.err;
   expect_same_mesh(dir + "/b.off", dir + "/c.off");
   EXPECT_EQ(c.stats["steps"].back()["points_moved"], 1);
@@ -156,7 +156,7 @@ TEST(MovePositions, AnEditedNetMovesTheEditedPoints) {
 TEST(MovePositions, PlainTextPositionsAndFixedPointsThatDifferWarn) {
   const std::string dir = temp_folder("positions_text");
   write_file(dir + "/a.json", script({kBSpline, R"({"op": "save", "path": "net.obj", "lattice": "L"})"}));
-  ASSERT_EQ(run_script(dir, test::data("bunny.obj"), dir + "/a.json", "a.off").code, 0);
+  ASSERT_EQ(run_seam_script(dir, test::data("bunny.obj"), dir + "/a.json", "a.off").code, 0);
   // The same points as "x y z" lines, the first (a fixed border point) nudged.
   std::string text, line;
   std::istringstream is(read_file(dir + "/net.obj"));
@@ -168,7 +168,7 @@ TEST(MovePositions, PlainTextPositionsAndFixedPointsThatDifferWarn) {
     }
   write_file(dir + "/points.txt", "# x y z\n" + text);
   write_file(dir + "/b.json", script({kBSpline, R"({"op": "move", "lattice": "L", "positions": {"file": "points.txt"}})"}));
-  const ToolRun b = run_script(dir, test::data("bunny.obj"), dir + "/b.json", "b.off");
+  const SeamRun b = run_seam_script(dir, test::data("bunny.obj"), dir + "/b.json", "b.off");
   ASSERT_EQ(b.code, 0) << b.err;
   expect_same_mesh(dir + "/a.off", dir + "/b.off");
   ASSERT_EQ(b.stats["warnings"].size(), 1u) << b.stats.dump();
@@ -181,13 +181,13 @@ TEST(MovePositions, ACountThatDiffersIsAnInputErrorNamingBothCounts) {
   const std::string dir = temp_folder("positions_count");
   write_file(dir + "/points.txt", "0 0 0\n1 1 1\n");
   write_file(dir + "/s.json", script({kBSpline, R"({"op": "move", "lattice": "L", "positions": {"file": "points.txt"}})"}));
-  const ToolRun r = run_script(dir, test::data("bunny.obj"), dir + "/s.json");
+  const SeamRun r = run_seam_script(dir, test::data("bunny.obj"), dir + "/s.json");
   EXPECT_EQ(r.code, 2);
   expect_one_error_line(r.err, {dir + "/s.json: /steps/1/positions", "has 2 points", "has 729"});
   EXPECT_FALSE(fs::exists(dir + "/out.off"));
   write_file(dir + "/bad.txt", "0 0 0\n1 1 x\n");
   write_file(dir + "/t.json", script({kBSpline, R"({"op": "move", "lattice": "L", "positions": {"file": "bad.txt"}})"}));
-  const ToolRun t = run_script(dir, test::data("bunny.obj"), dir + "/t.json");
+  const SeamRun t = run_seam_script(dir, test::data("bunny.obj"), dir + "/t.json");
   EXPECT_EQ(t.code, 2);
   expect_one_error_line(t.err, {"bad.txt:2"});
 }
@@ -196,7 +196,7 @@ TEST(Sensitivity, SaveWritesAMatrixMarketFileWithItsCounts) {
   const std::string dir = temp_folder("sensitivity_save");
   write_file(dir + "/s.json", script({kOctree, kOctreeMoves,
                                       R"({"op": "save", "path": "dxdp.mtx", "sensitivity": {"lattice": "L", "level": 2}})"}));
-  const ToolRun r = run_script(dir, test::data("bunny.obj"), dir + "/s.json");
+  const SeamRun r = run_seam_script(dir, test::data("bunny.obj"), dir + "/s.json");
   ASSERT_EQ(r.code, 0) << r.err;
   const json& step = r.stats["steps"].back();
   EXPECT_EQ(step["rows"], 3 * 1839);
@@ -215,15 +215,15 @@ TEST(Sensitivity, SaveWritesAMatrixMarketFileWithItsCounts) {
 TEST(Sensitivity, UnknownOrFrozenLatticeIsAnInputErrorAtItsKey) {
   const std::string dir = temp_folder("sensitivity_errors");
   write_file(dir + "/s.json", script({kBSpline, R"({"op": "save", "path": "d.mtx", "sensitivity": {"lattice": "M"}})"}));
-  ToolRun r = run_script(dir, test::data("bunny.obj"), dir + "/s.json");
+  SeamRun r = run_seam_script(dir, test::data("bunny.obj"), dir + "/s.json");
   EXPECT_EQ(r.code, 2);
   expect_one_error_line(r.err, {dir + "/s.json: /steps/1/sensitivity/lattice", "no lattice named 'M'"});
   write_file(dir + "/t.json", script({kBSpline, R"({"op": "save", "path": "d.obj", "sensitivity": {"lattice": "L"}})"}));
-  r = run_script(dir, test::data("bunny.obj"), dir + "/t.json");
+  r = run_seam_script(dir, test::data("bunny.obj"), dir + "/t.json");
   EXPECT_EQ(r.code, 2);
   expect_one_error_line(r.err, {dir + "/t.json: /steps/1/path", ".mtx"});
   write_file(dir + "/u.json", script({kBSpline, R"({"op": "save", "path": "d.mtx", "sensitivity": {"lattice": "L", "level": 1}})"}));
-  r = run_script(dir, test::data("bunny.obj"), dir + "/u.json");
+  r = run_seam_script(dir, test::data("bunny.obj"), dir + "/u.json");
   EXPECT_EQ(r.code, 2);
   expect_one_error_line(r.err, {dir + "/u.json: /steps/1/sensitivity/level"});
   // A surface edit freezes the lattices before it into the mesh: no sensitivity to give.
@@ -231,7 +231,7 @@ TEST(Sensitivity, UnknownOrFrozenLatticeIsAnInputErrorAtItsKey) {
              script({kBSpline, R"({"op": "bcm", "name": "back", "support": {"sphere": {"center": [1.24, 6.29, 1.05], "radius": 3.0}},
                        "handles": [{"name": "hump", "select": {"sphere": {"center": [1.24, 6.29, 1.05], "radius": 0.7}}}]})",
                      R"({"op": "save", "path": "d.mtx", "sensitivity": {"lattice": "L"}})"}));
-  r = run_script(dir, test::data("bunny.obj"), dir + "/v.json");
+  r = run_seam_script(dir, test::data("bunny.obj"), dir + "/v.json");
   EXPECT_EQ(r.code, 2);
   expect_one_error_line(r.err, {dir + "/v.json: /steps/2/sensitivity/lattice", "frozen into the mesh"});
   EXPECT_TRUE(test::files_in(dir).count("d.mtx") == 0);

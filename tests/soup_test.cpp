@@ -101,7 +101,7 @@ const char* kBcm = R"({"version": 1, "steps": [
    "handles": [{"name": "hump", "select": {"sphere": {"center": [1.24, 6.29, 1.05], "radius": 0.7}}}], "k": 2},
   {"op": "transform", "editor": "back", "handle": "hump", "transform": {"translate": [0, 0.5, 0]}}]})";
 
-std::vector<std::string> lines_starting(const std::string& text, const std::string& keys) {
+std::vector<std::string> keyed_lines(const std::string& text, const std::string& keys) {
   std::vector<std::string> out;
   std::istringstream is(text);
   std::string line;
@@ -146,7 +146,7 @@ TEST(Soups, APlainFfdKeepsEveryElementAndMovesVerticesAsOnTheCleanMesh) {
     const std::string input = obj_text(source.positions, soup.elements);
     std::string out;
     ASSERT_EQ(run_on(dir, soup.name, input, kPlainFfd, &out, &err), 0) << err;
-    EXPECT_EQ(lines_starting(out, "flp"), lines_starting(input, "flp"));  // every element, in order
+    EXPECT_EQ(keyed_lines(out, "flp"), keyed_lines(input, "flp"));  // every element, in order
     const PolygonSoup moved_soup = read_obj(out, soup.name + "_out.obj");
     ASSERT_EQ(moved_soup.positions.size(), clean.positions.size());
     for (std::size_t v = 0; v < clean.positions.size(); ++v)
@@ -191,12 +191,12 @@ TEST(Soups, RemeshAndBcmLeaveLinesAndPointsAsTheyWere) {
     SCOPED_TRACE(op);
     std::string out, err;
     ASSERT_EQ(run_on(dir, op, input, script, &out, &err), 0) << err;
-    EXPECT_EQ(lines_starting(out, "lp"), lines_starting(extra, "lp"));
+    EXPECT_EQ(keyed_lines(out, "lp"), keyed_lines(extra, "lp"));
     const PolygonSoup before = read_obj(input, "in.obj"), after = read_obj(out, "out.obj");
     if (std::string(op) == "remesh") {
       EXPECT_GT(after.positions.size(), before.positions.size());
     }
-    for (const std::string& line : lines_starting(extra, "lp")) EXPECT_NE(out.find(line + "\n"), std::string::npos);
+    for (const std::string& line : keyed_lines(extra, "lp")) EXPECT_NE(out.find(line + "\n"), std::string::npos);
   }
   // OFF cannot hold lines: saving there is refused before anything is written.
   std::string err;

@@ -269,6 +269,8 @@ std::string script(const std::vector<std::string>& steps) {
   return s + "]}";
 }
 
+std::string script_with(const std::string& steps) { return R"({"version": 1, "steps": [)" + steps + "]}"; }
+
 int run_script(const std::string& dir, const std::string& name, const std::vector<std::string>& steps,
                std::string* err, const std::string& mesh) {
   write_file(dir + "/" + name + ".json", script(steps));

@@ -58,6 +58,10 @@ void expect_one_error_line(const std::string& err, const std::vector<std::string
 /// A script of `steps` (each a JSON object's text): {"version": 1, "steps": [...]}.
 std::string script(const std::vector<std::string>& steps);
 
+/// A script of steps already joined (JSON objects' text, separated by commas):
+/// {"version": 1, "steps": [steps]}.
+std::string script_with(const std::string& steps);
+
 /// Writes script(steps) to DIR/NAME.json and runs it on `mesh` (default: the bunny) with
 /// -o DIR/NAME.off and --stats DIR/NAME.stats.json, quietly; returns the exit code.
 int run_script(const std::string& dir, const std::string& name, const std::vector<std::string>& steps,
