@@ -25,13 +25,13 @@ using test::run_tool;
 using test::temp_folder;
 using test::write_file;
 
-struct Kernel {
+struct KernelCase {
   const char* name;
   RbfOptions options;
 };
 
 /// Every PyGeM kernel, with radii in the bunny's units (its bounding box is about 15).
-std::vector<Kernel> kernels() {
+std::vector<KernelCase> kernels() {
   return {{"gaussian_spline", {RbfKernel::Gaussian, 4.0, 2}},
           {"multi_quadratic_biharmonic_spline", {RbfKernel::MultiQuadratic, 1.0, 2}},
           {"inv_multi_quadratic_biharmonic_spline", {RbfKernel::InvMultiQuadratic, 2.0, 2}},
@@ -99,7 +99,7 @@ TEST(Rbf, EveryKernelEqualsPyGemsMapOnTheBunny) {
   double diag = 0;
   control_points(mesh, 46, 5, X, Y, diag);
   ASSERT_EQ(X.size(), 40u);
-  for (const Kernel& k : kernels()) {
+  for (const KernelCase& k : kernels()) {
     RbfDeformer rbf(X, k.options);
     rbf.move_points(0, all_ids(X.size()), Y);
     const Eigen::Matrix3Xd expected = pygem_rbf(X, Y, k.options, mesh.positions());
@@ -122,7 +122,7 @@ TEST(Rbf, AnAffineMoveIsThatAffineMapAndNoMoveIsTheIdentity) {
   const Eigen::Vector3d b(0.3, -0.2, 0.5);
   std::vector<Eigen::Vector3d> affine;
   for (const Eigen::Vector3d& x : X) affine.push_back(A * x + b);
-  for (const Kernel& k : kernels()) {
+  for (const KernelCase& k : kernels()) {
     RbfDeformer rbf(X, k.options);
     for (Eigen::Index v = 0; v < mesh.positions().cols(); ++v) {
       const Eigen::Vector3d x = mesh.positions().col(v);
@@ -146,7 +146,7 @@ TEST(Rbf, JacobiansMatchCentralDifferences) {
   double diag = 0;
   control_points(mesh, 46, 5, X, Y, diag);
   const double h = 1e-6 * diag;
-  for (const Kernel& k : kernels()) {
+  for (const KernelCase& k : kernels()) {
     RbfDeformer rbf(X, k.options);
     rbf.move_points(0, all_ids(X.size()), Y);
     for (Eigen::Index v = 3; v < mesh.positions().cols(); v += 97) {
