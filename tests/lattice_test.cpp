@@ -217,7 +217,7 @@ TEST(Lattice, PointsWithoutNormalsSkipTheJacobianOnlyWhereNothingCanFold) {
   // bound rules out folds (fold_free): positions only. The positions are the Jacobian
   // path's bit for bit, the normals stay zero, and the fold count is the same: zero where
   // the bound holds, and where it does not the Jacobian path runs and counts.
-  for (const Case& c : all_lattices())
+  for (const LatticeCase& c : all_lattices())
     for (double size : {0.01, 0.6}) {
       auto lattice = c.make(skewed_box());
       perturb(*lattice, size, 21);
