@@ -1,12 +1,11 @@
 // OctreeLattice as a Warp: parameterization in the subdivided rest lattices and
 // relocation by the subdivided displacements (Ono et al. section 3.2).
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 
+#include "common/ordered_select.h"
 #include "multires/cell_coordinates.h"
 #include "multires/octree_lattice.h"
 #include "multires/volume_subdivision.h"
@@ -224,19 +223,7 @@ void OctreeLattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_
       if (marked(entry.marks.changed, entry.marks.resolution)) return true;
     return false;
   };
-  // Each thread over one contiguous range, appended in range order: the same list
-  // whatever the thread count.
-  std::vector<std::vector<std::uint32_t>> parts;
-#pragma omp parallel
-  {
-#pragma omp single
-    parts.resize(static_cast<std::size_t>(omp_get_num_threads()));
-    std::vector<std::uint32_t>& mine = parts[static_cast<std::size_t>(omp_get_thread_num())];
-#pragma omp for schedule(static)
-    for (Eigen::Index v = 0; v < in_pos.cols(); ++v)
-      if (changed(v)) mine.push_back(static_cast<std::uint32_t>(v));
-  }
-  for (const std::vector<std::uint32_t>& part : parts) ids.insert(ids.end(), part.begin(), part.end());
+  append_selected(in_pos.cols(), changed, ids);  // in parallel, in order
 }
 
 bool OctreeLattice::can_act_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {

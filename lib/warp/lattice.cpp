@@ -1,13 +1,13 @@
 #include "warp/lattice.h"
 
 #include <Eigen/SVD>
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "common/numbers.h"
+#include "common/ordered_select.h"
 
 namespace ffd {
 namespace {
@@ -192,19 +192,7 @@ void Lattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
     for (int a = 0; a < 3; ++a) locate(a, u[a], p[a], local);
     return changed_piece_[flat_piece(p)] != 0;
   };
-  // In parallel, each thread over one contiguous range, its ids appended in range order:
-  // the same list, in increasing order, whatever the thread count.
-  std::vector<std::vector<std::uint32_t>> parts;
-#pragma omp parallel
-  {
-#pragma omp single
-    parts.resize(static_cast<std::size_t>(omp_get_num_threads()));
-    std::vector<std::uint32_t>& mine = parts[static_cast<std::size_t>(omp_get_thread_num())];
-#pragma omp for schedule(static)
-    for (Eigen::Index v = 0; v < in_pos.cols(); ++v)
-      if (changed(v)) mine.push_back(static_cast<std::uint32_t>(v));
-  }
-  for (const std::vector<std::uint32_t>& part : parts) ids.insert(ids.end(), part.begin(), part.end());
+  append_selected(in_pos.cols(), changed, ids);  // in parallel, in order
 }
 
 void Lattice::clear_changes() {

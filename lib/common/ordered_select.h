@@ -1,0 +1,30 @@
+// append_selected: the indices 0..n-1 that satisfy a predicate, found in parallel and
+// appended in increasing order.
+#pragma once
+
+#include <omp.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace ffd {
+
+/// Appends to `out` every i in [0, n) with keep(i), in increasing order. Each thread scans
+/// one contiguous range (schedule static) and its finds are appended in range order, so
+/// the list is the same whatever the thread count.
+template <class Keep>
+void append_selected(std::int64_t n, Keep keep, std::vector<std::uint32_t>& out) {
+  std::vector<std::vector<std::uint32_t>> parts;
+#pragma omp parallel
+  {
+#pragma omp single
+    parts.resize(static_cast<std::size_t>(omp_get_num_threads()));
+    std::vector<std::uint32_t>& mine = parts[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i)
+      if (keep(i)) mine.push_back(static_cast<std::uint32_t>(i));
+  }
+  for (const std::vector<std::uint32_t>& part : parts) out.insert(out.end(), part.begin(), part.end());
+}
+
+}  // namespace ffd
