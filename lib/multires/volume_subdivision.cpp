@@ -174,8 +174,12 @@ void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, Subdi
   vertex_stencil(coarse, base, s);
 }
 
-Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
-                                SubdivisionRule rule) {
+namespace {
+
+// The field at the new points for which computed(node) holds (the others stay zero).
+template <class Computed>
+Eigen::MatrixXd subdivide_where(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
+                                SubdivisionRule rule, Computed computed) {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(X.rows(), static_cast<Eigen::Index>(fine.num_points()));
   const long long n = static_cast<long long>(fine.num_points());
 #pragma omp parallel
@@ -183,11 +187,19 @@ Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fi
     Stencil stencil;
 #pragma omp for schedule(static)
     for (long long f = 0; f < n; ++f) {
+      if (!computed(fine.points[static_cast<std::size_t>(f)])) continue;
       subdivision_stencil(coarse, fine.points[static_cast<std::size_t>(f)], rule, stencil);
       for (const auto& [p, w] : stencil) out.col(f) += w * X.col(p);
     }
   }
   return out;
+}
+
+}  // namespace
+
+Eigen::MatrixXd subdivide_field(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
+                                SubdivisionRule rule) {
+  return subdivide_where(coarse, fine, X, rule, [](const GridIndex&) { return true; });
 }
 
 Eigen::MatrixXd subdivide_sparse_field(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
@@ -211,19 +223,7 @@ Eigen::MatrixXd subdivide_sparse_field(const GridComplex& coarse, const GridComp
     const long long i = (node[0] >> 1) - lo[0], j = (node[1] >> 1) - lo[1], k = (node[2] >> 1) - lo[2];
     return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz && reach[static_cast<std::size_t>((k * ny + j) * nx + i)];
   };
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(X.rows(), static_cast<Eigen::Index>(fine.num_points()));
-  const long long n = static_cast<long long>(fine.num_points());
-#pragma omp parallel
-  {
-    Stencil stencil;
-#pragma omp for schedule(static)
-    for (long long f = 0; f < n; ++f) {
-      if (!reached(fine.points[static_cast<std::size_t>(f)])) continue;
-      subdivision_stencil(coarse, fine.points[static_cast<std::size_t>(f)], rule, stencil);
-      for (const auto& [p, w] : stencil) out.col(f) += w * X.col(p);
-    }
-  }
-  return out;
+  return subdivide_where(coarse, fine, X, rule, reached);
 }
 
 Eigen::MatrixXd subdivide_field_and_matrix(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
