@@ -226,15 +226,15 @@ void OctreeLattice::ensure_rest(int l, const std::vector<GridIndex>& cells) cons
   Level& level = levels_[l];
   const GridComplex& g = level.sub[0];
   const int res = g.resolution, rings = options_.cc_steps;
-  std::vector<GridIndex> todo;
+  std::vector<GridIndex> pending;
   for (const GridIndex& c : cells)
-    if (g.has_cell(c[0], c[1], c[2]) && !rest_ready(l, c)) todo.push_back(c);
-  if (todo.empty()) return;
+    if (g.has_cell(c[0], c[1], c[2]) && !rest_ready(l, c)) pending.push_back(c);
+  if (pending.empty()) return;
   // A point of C^k on a cell's closure reads C^(k-1) one ring of C^(k-1) cells around,
   // and its rule depends on the cells there: k rings of the level's cells hold all it reads.
   std::vector<std::uint8_t> near(static_cast<std::size_t>(res) * res * res, 0);
   std::vector<GridIndex> region;
-  for (const GridIndex& c : todo)
+  for (const GridIndex& c : pending)
     for (int k = std::max(0, c[2] - rings); k <= std::min(res - 1, c[2] + rings); ++k)
       for (int j = std::max(0, c[1] - rings); j <= std::min(res - 1, c[1] + rings); ++j)
         for (int i = std::max(0, c[0] - rings); i <= std::min(res - 1, c[0] + rings); ++i) {
@@ -251,7 +251,7 @@ void OctreeLattice::ensure_rest(int l, const std::vector<GridIndex>& cells) cons
     field = subdivide_field(local, finer, field, SubdivisionRule::CatmullClark);
     const int span = 1 << k;  // nodes of C^k per cell of the level, per axis
     std::vector<std::uint8_t>& written = level.written[static_cast<std::size_t>(k - 1)];
-    for (const GridIndex& c : todo)
+    for (const GridIndex& c : pending)
       for (int z = 0; z <= span; ++z)
         for (int y = 0; y <= span; ++y)
           for (int x = 0; x <= span; ++x) {
@@ -263,7 +263,7 @@ void OctreeLattice::ensure_rest(int l, const std::vector<GridIndex>& cells) cons
           }
     local = std::move(finer);
   }
-  for (const GridIndex& c : todo) level.ready[dense_cell(c, res)].store(1, std::memory_order_release);
+  for (const GridIndex& c : pending) level.ready[dense_cell(c, res)].store(1, std::memory_order_release);
 }
 
 /// The cells of the level within `before`..`after` grid steps of the points' nodes.
