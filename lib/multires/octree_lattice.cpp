@@ -419,6 +419,8 @@ std::size_t OctreeLattice::bytes() const {
     for (const Eigen::Matrix3Xd& m : level.fine) total += static_cast<std::size_t>(m.size()) * sizeof(double);
     for (const Eigen::Matrix3Xd& m : level.disp) total += static_cast<std::size_t>(m.size()) * sizeof(double);
     for (const auto& S : level.steps) total += static_cast<std::size_t>(S.nonZeros()) * (sizeof(double) + sizeof(int));
+    for (const auto& flags : level.written) total += flags.size();
+    if (level.ready) total += static_cast<std::size_t>(level.marks.changed.size());  // one flag per grid cell
     total += static_cast<std::size_t>(level.rest.size() + level.delta.size()) * sizeof(double) +
              level.marks.bytes();
   }
