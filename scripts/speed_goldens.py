@@ -77,7 +77,7 @@ def info(ffdtool, mesh):
     return json.loads(out.stdout)
 
 
-def jobs(box_min, box_max, vertex_count):
+def jobs(box_min, box_max):
     """The scripts, from the mesh's bounding box."""
     centre = [(a + b) / 2 for a, b in zip(box_min, box_max)]
     size = max(b - a for a, b in zip(box_min, box_max))
@@ -125,10 +125,10 @@ def main():
               cache / "cloud_100k.ply"] + sorted(args.meshes.glob("*.off"))
     for mesh in meshes:
         about = info(args.ffdtool, mesh)
-        todo = jobs(about["bbox_min"], about["bbox_max"], about["vertices"])
+        scripts = jobs(about["bbox_min"], about["bbox_max"])
         if about["faces"] == 0:
-            del todo["octree"]  # a point cloud: the lattices' move steps only
-        for name, steps in todo.items():
+            del scripts["octree"]  # a point cloud: the lattices' move steps only
+        for name, steps in scripts.items():
             for threads in (1, 2):
                 run(args.ffdtool, mesh, steps, args.out / mesh.stem / name / f"t{threads}", threads, mesh.suffix)
     bcm = json.loads((ROOT / "test_data" / "bcm_bunny.json").read_text())["steps"]
