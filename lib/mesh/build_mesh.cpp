@@ -33,6 +33,8 @@ Mesh build_mesh(PolygonSoup soup, const std::string& file, bool defer_normals) {
   Mesh mesh;
   mesh.set_source(file);
   mesh.set_source_binary(soup.binary);
+  mesh.set_ply_source(std::move(soup.ply));
+  mesh.set_obj_source(std::move(soup.obj));
   const std::size_t n = soup.positions.size();
   Eigen::Matrix3Xd positions(3, static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i) positions.col(static_cast<Eigen::Index>(i)) = soup.positions[i];

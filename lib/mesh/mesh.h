@@ -30,6 +30,8 @@
 namespace ffd {
 
 struct GltfScene;
+struct PlySource;
+struct ObjSource;
 
 /// Declared attributes: what steps other than the file's own data leave on a mesh, by
 /// name. Each persists through every later step (copies and connectivity changes too),
@@ -225,6 +227,28 @@ public:
     gltf_version_ = topology_version_;
   }
 
+  /// The PLY file the mesh was read from (ply_source.h): every element and property, so
+  /// a PLY write gives the file back; null for other formats, and once the connectivity
+  /// has changed since the read.
+  const PlySource* ply_source() const { return ply_ && ply_version_ == topology_version_ ? ply_.get() : nullptr; }
+  /// The same, even after a connectivity change (to name what a write no longer carries).
+  const PlySource* ply_source_as_read() const { return ply_.get(); }
+  void set_ply_source(std::shared_ptr<const PlySource> source) {
+    ply_ = std::move(source);
+    ply_version_ = topology_version_;
+  }
+
+  /// What an OBJ file held that ffdtool does not interpret (obj_source.h), for the OBJ
+  /// writer to put back in place; null for other formats, for an OBJ with nothing of the
+  /// kind, and once the connectivity has changed since the read.
+  const ObjSource* obj_source() const { return obj_ && obj_version_ == topology_version_ ? obj_.get() : nullptr; }
+  /// The same, even after a connectivity change (to name what a write no longer carries).
+  const ObjSource* obj_source_as_read() const { return obj_.get(); }
+  void set_obj_source(std::shared_ptr<const ObjSource> source) {
+    obj_ = std::move(source);
+    obj_version_ = topology_version_;
+  }
+
   /// Refinement levels (mesh_attribute): per vertex (empty: all 0), and the edges whose
   /// level is not 0, sorted by (a, b).
   std::vector<RefinementLevel>& vertex_levels() { return vertex_levels_; }
@@ -264,6 +288,10 @@ private:
   bool source_binary_ = false;
   std::shared_ptr<const GltfScene> gltf_;  // shared by clones: it is never changed
   std::uint64_t gltf_version_ = 0;
+  std::shared_ptr<const PlySource> ply_;  // shared by clones: it is never changed
+  std::uint64_t ply_version_ = 0;
+  std::shared_ptr<const ObjSource> obj_;  // shared by clones: it is never changed
+  std::uint64_t obj_version_ = 0;
   std::vector<EdgeLevel> edge_levels_;
   std::uint64_t topology_version_ = 0;
 };

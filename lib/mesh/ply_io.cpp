@@ -5,18 +5,19 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "common/errors.h"
 #include "common/numbers.h"
+#include "mesh/ply_source.h"
 #include "mesh/text_lines.h"
 
 namespace ffd {
 namespace {
 
-enum class Format { Ascii, BinaryLittle, BinaryBig };
-
-enum class Type { Int8, Uint8, Int16, Uint16, Int32, Uint32, Float32, Float64 };
+using Format = PlySource::Format;
+using Type = PlyType;
 
 struct TypeName {
   std::string_view name;
@@ -37,17 +38,9 @@ bool parse_type(std::string_view word, Type& type) {
   return false;
 }
 
-std::size_t type_size(Type t) {
-  switch (t) {
-    case Type::Int8: case Type::Uint8: return 1;
-    case Type::Int16: case Type::Uint16: return 2;
-    case Type::Int32: case Type::Uint32: case Type::Float32: return 4;
-    case Type::Float64: return 8;
-  }
-  return 8;
-}
+std::size_t type_size(Type t) { return ply_type_size(t); }
 
-bool is_integer(Type t) { return t != Type::Float32 && t != Type::Float64; }
+bool is_integer(Type t) { return ply_integer(t); }
 
 // The range of an integer type, for ASCII values.
 void integer_range(Type t, long long& lo, long long& hi) {
@@ -69,7 +62,8 @@ int vertex_slot(std::string_view name) {
       {"x", kX},         {"y", kY},         {"z", kZ},         {"nx", kNx},       {"ny", kNy},
       {"nz", kNz},       {"red", kRed},     {"green", kGreen}, {"blue", kBlue},   {"u", kU},
       {"v", kV},         {"s", kU},         {"t", kV},         {"texture_u", kU}, {"texture_v", kV},
-      {"texture_s", kU}, {"texture_t", kV}};
+      {"texture_s", kU}, {"texture_t", kV}, {"diffuse_red", kRed}, {"diffuse_green", kGreen},
+      {"diffuse_blue", kBlue}};
   for (const auto& [n, slot] : kNames)
     if (n == name) return slot;
   return kNone;
@@ -82,7 +76,7 @@ struct Property {
   Type count_type = Type::Uint8;
   std::size_t line = 0;
   int slot = kNone;      // vertex: what it feeds
-  bool indices = false;  // face: the vertex index list
+  bool indices = false;  // face, tristrips: the vertex index list
 };
 
 struct Element {
@@ -105,6 +99,9 @@ struct Header {
   std::vector<Element> elements;
   std::size_t data_start = 0;  // the first byte after end_header's line
   std::size_t lines = 0;       // the header's lines
+  std::vector<std::string> text;  // each line as read, without its line end
+  std::size_t format_line = 0;    // 0-based
+  std::string line_end;           // the first line's: "\n", "\r\n" or "\r"
 };
 
 void parse_format(const std::vector<std::string_view>& t, const std::string& at, Header& h) {
@@ -144,10 +141,8 @@ void parse_property(const std::vector<std::string_view>& t, const std::string& a
   } else {
     throw InputError(at + ": expected 'property TYPE NAME' or 'property list COUNTTYPE ITEMTYPE NAME'");
   }
-  Element& e = h.elements.back();
-  for (const Property& q : e.properties)
-    if (q.name == p.name) throw InputError(at + ": a second property '" + p.name + "' in element " + e.name);
-  e.properties.push_back(std::move(p));
+  // A repeated name is allowed: the first one has the name's meaning, and all are kept.
+  h.elements.back().properties.push_back(std::move(p));
 }
 
 // The header up to end_header's line; elements and properties as declared.
@@ -160,10 +155,13 @@ Header read_header(std::string_view bytes, const std::string& file) {
   for (;;) {
     if (pos >= bytes.size())
       throw InputError(At{file}, "the header ends without 'end_header' (after line " + std::to_string(h.lines) + ")");
-    std::size_t end = std::min(bytes.find('\n', pos), bytes.size());
-    std::string_view line = bytes.substr(pos, end - pos);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos = end + 1;
+    // A line ends at LF, CRLF or a lone CR (old Mac and some Rhino exports).
+    const std::size_t end = std::min(bytes.find_first_of("\r\n", pos), bytes.size());
+    const std::string_view line = bytes.substr(pos, end - pos);
+    const std::size_t ending = end + 1 < bytes.size() && bytes[end] == '\r' && bytes[end + 1] == '\n' ? 2 : 1;
+    if (h.line_end.empty()) h.line_end = std::string(bytes.substr(std::min(end, bytes.size()), ending));
+    pos = end + ending;
+    h.text.emplace_back(line);
     const std::string at = place(file, ++h.lines);
     split_tokens(line, t, false);
     if (h.lines == 1) {
@@ -174,6 +172,7 @@ Header read_header(std::string_view bytes, const std::string& file) {
     if (t[0] == "format") {
       if (have_format) throw InputError(at + ": a second format line");
       parse_format(t, at, h);
+      h.format_line = h.lines - 1;
       have_format = true;
     } else if (t[0] == "element") {
       parse_element(t, at, h.lines, h);
@@ -188,6 +187,7 @@ Header read_header(std::string_view bytes, const std::string& file) {
     }
   }
   h.data_start = std::min(pos, bytes.size());
+  if (h.line_end.empty()) h.line_end = "\n";
   return h;
 }
 
@@ -254,7 +254,8 @@ private:
     if (!ascii()) return;
     while (pos_ < bytes_.size()) {
       const char c = bytes_[pos_];
-      if (c == '\n') ++line_;
+      const bool lone_cr = c == '\r' && (pos_ + 1 == bytes_.size() || bytes_[pos_ + 1] != '\n');
+      if (c == '\n' || lone_cr) ++line_;
       else if (c != ' ' && c != '\t' && c != '\r' && c != '\f' && c != '\v') break;
       ++pos_;
     }
@@ -287,7 +288,7 @@ private:
   double ascii_scalar(Type t) {
     skip_blanks();
     if (pos_ == bytes_.size()) {
-      if (bytes_.back() == '\n') --line_;  // name the last line, not the one after it
+      if (bytes_.back() == '\n' || bytes_.back() == '\r') --line_;  // name the last line, not the one after it
       fail("the file ends inside it" + expected());
     }
     const std::size_t start = pos_;
@@ -371,7 +372,8 @@ VertexLayout vertex_layout(Element& e, const std::string& file) {
   return layout;
 }
 
-void face_layout(Element& e, const std::string& file) {
+// Marks the vertex index list of a face or tristrips element.
+void index_layout(Element& e, const std::string& file) {
   for (Property& p : e.properties)
     if (p.name == "vertex_indices" || p.name == "vertex_index") {
       if (!p.list || !is_integer(p.type))
@@ -379,30 +381,93 @@ void face_layout(Element& e, const std::string& file) {
       p.indices = true;
       return;
     }
-  throw InputError(At{place(file, e.line)}, "the face element has no list vertex_indices");
+  throw InputError(At{place(file, e.line)}, "the " + e.name + " element has no list vertex_indices");
+}
+
+// The columns a PlySource keeps of element e, one per property, with the role the
+// writer gives each (ply_source.h); the values come as the items are read.
+PlyElementData element_data(const Element& e, bool vertex) {
+  PlyElementData d;
+  d.name = e.name;
+  d.count = e.count;
+  d.line = e.line - 1;
+  for (const Property& p : e.properties) {
+    PlyColumn c;
+    c.name = p.name;
+    c.type = p.type;
+    c.list = p.list;
+    c.count_type = p.count_type;
+    c.line = p.line - 1;
+    c.in_mesh = p.indices;
+    if (vertex && p.slot != kNone) {
+      c.role = p.slot <= kZ ? PlyColumn::Role::Position : p.slot <= kNz ? PlyColumn::Role::Normal
+               : p.slot <= kBlue ? PlyColumn::Role::Color : PlyColumn::Role::Kept;
+      c.component = p.slot <= kZ ? p.slot : p.slot <= kNz ? p.slot - kNx : p.slot <= kBlue ? p.slot - kRed : 0;
+      c.in_mesh = c.role == PlyColumn::Role::Kept;  // u v
+    }
+    d.columns.push_back(std::move(c));
+  }
+  return d;
 }
 
 const char* const kSlotNames[] = {"x", "y", "z", "nx", "ny", "nz", "red", "green", "blue", "u", "v"};
 
-void read_vertices(Cursor& cur, const Element& e, const VertexLayout& layout, PolygonSoup& soup) {
+// Appends x to column c's values (unless the writer takes that column from the mesh).
+void keep(PlyColumn& c, double x) {
+  if (c.role == PlyColumn::Role::Position || c.role == PlyColumn::Role::Normal) return;
+  const std::size_t size = ply_type_size(c.type);
+  c.values.resize(c.values.size() + size);
+  ply_store(c.type, x, c.values.data() + c.values.size() - size);
+}
+
+// Reads one item of element e into d's columns: scalars of a vertex slot into `slots`
+// (checked finite), the entries of the index list into `indices`.
+void read_item(Cursor& cur, const Element& e, PlyElementData& d, double* slots, std::vector<double>& indices) {
+  indices.clear();
+  for (std::size_t k = 0; k < e.properties.size(); ++k) {
+    const Property& p = e.properties[k];
+    PlyColumn& c = d.columns[k];
+    cur.at(&p);
+    if (!p.list) {
+      const double x = cur.scalar(p.type);
+      if (p.slot != kNone) {
+        if (!std::isfinite(x)) cur.fail(std::string(kSlotNames[p.slot]) + " is not finite (" + format_number(x) + ")");
+        slots[p.slot] = x;
+      }
+      keep(c, x);
+      continue;
+    }
+    const std::uint64_t n = cur.list_length(p);
+    if (n > 0xffffffffu) cur.fail("the list " + p.name + " has more than 2^32 - 1 entries");
+    c.lengths.push_back(static_cast<std::uint32_t>(n));
+    for (std::uint64_t i = 0; i < n; ++i) {
+      const double x = cur.scalar(p.type);
+      keep(c, x);
+      if (p.indices) indices.push_back(x);
+    }
+  }
+}
+
+// Reserves d's columns for e's items (e.count is checked against the bytes left).
+void reserve_columns(const Element& e, PlyElementData& d) {
+  for (PlyColumn& c : d.columns)
+    if (!c.list && c.role != PlyColumn::Role::Position && c.role != PlyColumn::Role::Normal)
+      c.values.reserve(e.count * ply_type_size(c.type));
+    else if (c.list)
+      c.lengths.reserve(e.count);
+}
+
+void read_vertices(Cursor& cur, const Element& e, const VertexLayout& layout, PlyElementData& d, PolygonSoup& soup) {
   soup.positions.reserve(e.count);
   if (layout.normals()) soup.normals.reserve(e.count);
   if (layout.colors()) soup.colors.reserve(e.count);
   if (layout.uvs()) soup.uvs.reserve(e.count);
+  reserve_columns(e, d);
   double v[kSlots] = {};
+  std::vector<double> unused;
   for (std::uint64_t i = 0; i < e.count; ++i) {
     cur.at(&e, i);
-    for (const Property& p : e.properties) {
-      cur.at(&p);
-      if (p.list) {
-        for (std::uint64_t k = 0, n = cur.list_length(p); k < n; ++k) cur.scalar(p.type);
-        continue;
-      }
-      const double x = cur.scalar(p.type);
-      if (p.slot == kNone) continue;
-      if (!std::isfinite(x)) cur.fail(std::string(kSlotNames[p.slot]) + " is not finite (" + format_number(x) + ")");
-      v[p.slot] = x;
-    }
+    read_item(cur, e, d, v, unused);
     soup.positions.emplace_back(v[kX], v[kY], v[kZ]);
     if (layout.normals()) soup.normals.emplace_back(v[kNx], v[kNy], v[kNz]);
     if (layout.colors()) {
@@ -414,36 +479,66 @@ void read_vertices(Cursor& cur, const Element& e, const VertexLayout& layout, Po
   }
 }
 
-void read_faces(Cursor& cur, const Element& e, std::uint64_t vertices, const VertexLayout& layout, PolygonSoup& soup) {
+// Appends the polygon on `corners` (vertex indices) to the soup, with the vertex's UV and
+// normal when the file has them.
+void add_polygon(const std::vector<std::uint32_t>& corners, std::size_t line, const VertexLayout& layout,
+                 PolygonSoup& soup) {
+  for (const std::uint32_t v : corners)
+    soup.elements.add_corner(v, layout.uvs() ? static_cast<std::int32_t>(v) : -1,
+                             layout.normals() ? static_cast<std::int32_t>(v) : -1);
+  soup.elements.close(ElementKind::Polygon, -1, line);
+}
+
+// The vertex index x of an index list, checked against the vertex count.
+std::uint32_t vertex_index(Cursor& cur, double x, std::uint64_t vertices) {
+  if (x < 0 || x >= static_cast<double>(vertices))
+    cur.fail("vertex index " + std::to_string(static_cast<long long>(x)) + " is out of range (the file has " +
+             std::to_string(vertices) + " vertices)");
+  return static_cast<std::uint32_t>(x);
+}
+
+// A face element's polygons, or a tristrips element's triangles: in each strip (runs
+// between -1 entries), the triangles of consecutive triples, every second one flipped to
+// keep the strip's orientation. A triangle that repeats a vertex is the zero-area joint a
+// stripifier puts between strips, not a face, and is not made one.
+void read_polygons(Cursor& cur, const Element& e, std::uint64_t vertices, const VertexLayout& layout,
+                   PlyElementData& d, PolygonSoup& soup) {
+  const bool strips = e.name == "tristrips";
   // A face takes at least three indices, so no more faces than this fit in the bytes left.
   std::uint64_t per_face = e.min_bytes(cur.ascii() ? Format::Ascii : Format::BinaryLittle);
   for (const Property& p : e.properties)
     if (p.indices) per_face += cur.ascii() ? 6 : 3 * type_size(p.type);
-  soup.elements.reserve(std::min<std::uint64_t>(e.count, cur.left() / per_face + 1), 3);
+  if (!strips) soup.elements.reserve(std::min<std::uint64_t>(e.count, cur.left() / per_face + 1), 3);
+  reserve_columns(e, d);
+  double unused[kSlots];
+  std::vector<double> indices;
+  std::vector<std::uint32_t> corners;
   for (std::uint64_t i = 0; i < e.count; ++i) {
     cur.at(&e, i);
     const std::size_t line = cur.ascii() ? cur.line() : 0;
-    for (const Property& p : e.properties) {
-      cur.at(&p);
-      if (!p.list) {
-        cur.scalar(p.type);
+    read_item(cur, e, d, unused, indices);
+    corners.clear();
+    if (!strips) {
+      for (const double x : indices) corners.push_back(vertex_index(cur, x, vertices));
+      // Checked here, not only in build_mesh: it bounds the memory a face takes per byte.
+      if (corners.size() < 3) cur.fail("a face needs at least 3 vertices, found " + std::to_string(corners.size()));
+      add_polygon(corners, line, layout, soup);
+      continue;
+    }
+    std::vector<std::uint32_t> strip;
+    for (std::size_t k = 0; k <= indices.size(); ++k) {
+      if (k == indices.size() || indices[k] == -1) {
+        strip.clear();
         continue;
       }
-      const std::uint64_t n = cur.list_length(p);
-      for (std::uint64_t k = 0; k < n; ++k) {
-        const double x = cur.scalar(p.type);
-        if (!p.indices) continue;
-        if (x < 0 || x >= static_cast<double>(vertices))
-          cur.fail("vertex index " + std::to_string(static_cast<long long>(x)) + " is out of range (the file has " +
-                   std::to_string(vertices) + " vertices)");
-        const auto v = static_cast<std::uint32_t>(x);
-        soup.elements.add_corner(v, layout.uvs() ? static_cast<std::int32_t>(v) : -1,
-                                 layout.normals() ? static_cast<std::int32_t>(v) : -1);
-      }
-      // Checked here, not only in build_mesh: it bounds the memory a face takes per byte.
-      if (p.indices && n < 3) cur.fail("a face needs at least 3 vertices, found " + std::to_string(n));
+      strip.push_back(vertex_index(cur, indices[k], vertices));
+      const std::size_t n = strip.size();
+      if (n < 3) continue;
+      const std::uint32_t a = strip[n - 3], b = strip[n - 2], c = strip[n - 1];
+      if (a == b || b == c || a == c) continue;
+      corners.assign({n % 2 ? a : b, n % 2 ? b : a, c});
+      add_polygon(corners, line, layout, soup);
     }
-    soup.elements.close(ElementKind::Polygon, -1, line);
   }
 }
 
@@ -451,10 +546,15 @@ void read_faces(Cursor& cur, const Element& e, std::uint64_t vertices, const Ver
 
 PolygonSoup read_ply(std::string_view bytes, const std::string& file) {
   Header h = read_header(bytes, file);
+  auto source = std::make_shared<PlySource>();
+  source->format = h.format;
+  source->header = std::move(h.text);
+  source->format_line = h.format_line;
+  source->line_end = h.line_end;
   Element* vertex = nullptr;
   for (Element& e : h.elements) {
-    if (e.name == "vertex") vertex = &e;
-    if (e.name == "face") face_layout(e, file);
+    if (e.name == "vertex" && !vertex) vertex = &e;
+    if (e.name == "face" || e.name == "tristrips") index_layout(e, file);
   }
   if (!vertex || vertex->count == 0) throw InputError(At{file}, "the file has no vertex");
   const VertexLayout layout = vertex_layout(*vertex, file);
@@ -467,22 +567,25 @@ PolygonSoup read_ply(std::string_view bytes, const std::string& file) {
       throw InputError(At{place(file, e.line)}, "element " + e.name + " promises " + std::to_string(e.count) +
                        " items, but only " + std::to_string(cur.left()) + " bytes are left and each needs at least " +
                        std::to_string(min));
+    if (&e == vertex) source->vertex_element = source->elements.size();
+    source->elements.push_back(element_data(e, &e == vertex));
+    PlyElementData& d = source->elements.back();
     if (&e == vertex) {
-      read_vertices(cur, e, layout, soup);
-    } else if (e.name == "face") {
-      read_faces(cur, e, vertex->count, layout, soup);
+      read_vertices(cur, e, layout, d, soup);
+    } else if (e.name == "face" || e.name == "tristrips") {
+      read_polygons(cur, e, vertex->count, layout, d, soup);
     } else {
+      reserve_columns(e, d);
+      double unused[kSlots];
+      std::vector<double> indices;
       for (std::uint64_t i = 0; min > 0 && i < e.count; ++i) {
         cur.at(&e, i);
-        for (const Property& p : e.properties) {
-          cur.at(&p);
-          if (!p.list) cur.scalar(p.type);
-          else for (std::uint64_t k = 0, n = cur.list_length(p); k < n; ++k) cur.scalar(p.type);
-        }
+        read_item(cur, e, d, unused, indices);
       }
     }
   }
   cur.expect_end();
+  soup.ply = std::move(source);
   return soup;
 }
 

@@ -22,22 +22,23 @@ std::uint32_t max_degree(const MeshElements& el) {
   return most;
 }
 
-void put_ply_header(TextSink& out, const Mesh& mesh, bool normals, bool colors, bool binary, bool wide) {
+void put_ply_header(TextSink& out, const Mesh& mesh, bool normals, bool colors, bool uvs, bool binary, bool wide) {
   out.put(binary ? "ply\nformat binary_little_endian 1.0\n" : "ply\nformat ascii 1.0\n");
   out.put("comment written by ffdtool\nelement vertex ");
   out.integer(mesh.num_vertices());
   out.put("\nproperty double x\nproperty double y\nproperty double z\n");
   if (normals) out.put("property double nx\nproperty double ny\nproperty double nz\n");
   if (colors) out.put("property uchar red\nproperty uchar green\nproperty uchar blue\n");
+  if (uvs) out.put("property double u\nproperty double v\n");
   out.put("element face ");
   out.integer(mesh.num_faces());
   out.put(wide ? "\nproperty list int int vertex_indices\nend_header\n"
                : "\nproperty list uchar int vertex_indices\nend_header\n");
 }
 
-// One vertex's values: x y z, then the normal and the colour when given.
+// One vertex's values: x y z, then the normal, the colour and the UV when given.
 void put_ply_vertex(TextSink& out, const Mesh& mesh, Eigen::Index i, const Eigen::Matrix3Xd* normals,
-                    VertexColors colors, bool binary) {
+                    VertexColors colors, const std::vector<Eigen::Vector2d>& uvs, bool binary) {
   const ConstVec3Array p = mesh.positions();
   double values[6];
   int count = 0;
@@ -62,6 +63,16 @@ void put_ply_vertex(TextSink& out, const Mesh& mesh, Eigen::Index i, const Eigen
       out.put(' ');
       out.integer(std::uint32_t{c});
     }
+  if (!uvs.empty())
+    for (int k = 0; k < 2; ++k) {
+      const double t = uvs[static_cast<std::size_t>(i)][k];
+      if (binary) {
+        out.raw(t);
+        continue;
+      }
+      out.put(' ');
+      out.number(t);
+    }
   if (!binary) out.put('\n');
 }
 
@@ -83,14 +94,35 @@ void put_ply_face(TextSink& out, const MeshElements& el, std::size_t f, bool bin
 
 }  // namespace
 
+std::vector<Eigen::Vector2d> vertex_uvs(const Mesh& mesh) {
+  if (!mesh.has_uvs()) return {};
+  const MeshElements& el = mesh.elements();
+  std::vector<std::int32_t> at(mesh.num_vertices(), -1);
+  for (std::size_t f = 0; f < el.size(); ++f) {
+    if (el.kinds[f] != ElementKind::Polygon) continue;
+    for (std::uint32_t c = el.begin(f); c < el.end(f); ++c) {
+      const std::int32_t t = el.uv(c);
+      std::int32_t& first = at[el.corners[c]];
+      if (t < 0) return {};
+      if (first < 0) first = t;
+      else if (mesh.uvs()[static_cast<std::size_t>(first)] != mesh.uvs()[static_cast<std::size_t>(t)]) return {};
+    }
+  }
+  std::vector<Eigen::Vector2d> out(at.size(), Eigen::Vector2d::Zero());
+  for (std::size_t v = 0; v < at.size(); ++v)
+    if (at[v] >= 0) out[v] = mesh.uvs()[static_cast<std::size_t>(at[v])];
+  return out;
+}
+
 void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* normals, VertexColors colors,
                bool binary) {
   TextSink out(os);
   const MeshElements& el = mesh.elements();
   const bool wide = max_degree(el) > 255;
-  put_ply_header(out, mesh, normals != nullptr, colors != nullptr, binary, wide);
+  const std::vector<Eigen::Vector2d> uvs = vertex_uvs(mesh);
+  put_ply_header(out, mesh, normals != nullptr, colors != nullptr, !uvs.empty(), binary, wide);
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(mesh.num_vertices()); ++i)
-    put_ply_vertex(out, mesh, i, normals, colors, binary);
+    put_ply_vertex(out, mesh, i, normals, colors, uvs, binary);
   for (std::size_t f = 0; f < el.size(); ++f)
     if (el.kinds[f] == ElementKind::Polygon) put_ply_face(out, el, f, binary, wide);  // others: check_writable
   out.flush();

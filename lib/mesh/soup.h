@@ -3,12 +3,16 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "mesh/mesh_elements.h"
 
 namespace ffd {
+
+struct PlySource;
+struct ObjSource;
 
 /// Everything ffdtool keeps of a mesh file.
 struct PolygonSoup {
@@ -20,6 +24,8 @@ struct PolygonSoup {
   std::vector<ObjState> groups;             // OBJ o/g/usemtl/s state, one per distinct state
   std::vector<std::string> header;          // OBJ mtllib lines, written back verbatim
   bool binary = false;                      // read from a binary PLY or STL
+  std::shared_ptr<const PlySource> ply;     // a PLY file's every element (ply_source.h)
+  std::shared_ptr<const ObjSource> obj;     // an OBJ's statements not interpreted (obj_source.h)
 };
 
 }  // namespace ffd
