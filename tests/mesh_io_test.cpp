@@ -29,6 +29,7 @@
 #include "mesh/halfedge_view.h"
 #include "mesh/mesh_io.h"
 #include "mesh/obj_io.h"
+#include "mesh/obj_source.h"
 #include "mesh/off_io.h"
 #include "script/runner.h"
 #include "test_meshes.h"
@@ -670,14 +671,40 @@ TEST(ObjIo, RejectsMalformedLinesWithFileAndLine) {
   expect_input_error(read(head + "v 0 1 0\nvt 0 0\nf 1/1 2/5 3/1\n"), "x.obj:5:", {"texture", "out of range"});
   expect_input_error(read(head + "v 0 1 0\nf 1//1 2//1 3//1\n"), "x.obj:4:", {"normal", "out of range"});
   expect_input_error(read(head + "v 0 1 0\nf 1 2\n"), "x.obj:4:", {"at least 3"});
-  expect_input_error(read(head + "frobnicate 1 2\n"), "x.obj:3:", {"unsupported", "'frobnicate'"});
-  expect_input_error(read(head + "curv 0 1 1 2\n"), "x.obj:3:", {"'curv'"});
+  // A statement keyword that is not a word (junk, UTF-16 text) is refused; words are kept.
+  expect_input_error(read(head + "\x01\x02 1 2\n"), "x.obj:3:", {"unsupported OBJ statement"});
+  expect_input_error(read(head + "v\xff 1 2\n"), "x.obj:3:", {"unsupported OBJ statement"});
   expect_input_error(read(head + "l 1\n"), "x.obj:3:", {"a line needs at least 2 vertices, found 1"});
   expect_input_error(read(head + "p\n"), "x.obj:3:", {"a point element needs at least 1 vertices, found 0"});
   expect_input_error(read(head + "l 1 9\n"), "x.obj:3:", {"vertex index 9 is out of range"});
   expect_input_error(read(head + "vn 0 nan 1\n"), "x.obj:3:", {"'nan'"});
   expect_input_error(read(head + "vt 0.5 inf\n"), "x.obj:3:", {"'inf'"});
-  expect_input_error(read(head + "v 0 1 0 2\n"), "x.obj:3:", {"w != 1"});
+  expect_input_error(read(head + "v 0 1 0 nan\n"), "x.obj:3:", {"'nan'"});
+}
+
+// The spec's statements ffdtool does not interpret, `\` continuations and w components:
+// read, warned about by kind, and written back in place to an OBJ.
+TEST(ObjIo, KeepsWhatItDoesNotInterpretAndWritesItBackInPlace) {
+  const std::string text =
+      "mtllib a.mtl\nmaplib x.map\nv 0 0 0\nv 1 0 0 0.5\nv 0 1 0\nvw 2 0.25\nlod 3\nf 1 2 \\\n 3\n"
+      "usemap tex\nbevel on\nf 1 3 2\ntrace_obj t.obj\n";
+  const Mesh mesh = obj_mesh(text, "k.obj");
+  ASSERT_NE(mesh.obj_source(), nullptr);
+  EXPECT_EQ(mesh.num_faces(), 2u);
+  EXPECT_EQ(mesh.faces()[0], (std::vector<std::uint32_t>{0, 1, 2}));
+  const std::vector<std::string> notes = uninterpreted_data(mesh);
+  ASSERT_EQ(notes.size(), 6u);
+  EXPECT_EQ(notes[0], "1 OBJ 'maplib' statement is not interpreted; an OBJ output writes it back in place");
+  std::ostringstream os;
+  write_mesh(os, MeshFormat::Obj, mesh);
+  EXPECT_EQ(os.str(), "mtllib a.mtl\nmaplib x.map\nv 0 0 0\nv 1 0 0 0.5\nv 0 1 0\nvw 2 0.25\nlod 3\nf 1 2 3\n"
+                      "usemap tex\nbevel on\nf 1 3 2\ntrace_obj t.obj\n");
+  EXPECT_EQ(unwritten_data(mesh, MeshFormat::Obj), "");
+  EXPECT_EQ(unwritten_data(mesh, MeshFormat::Ply),
+            "the OBJ file's 'maplib', 'vw', 'lod', 'usemap', 'bevel', 'trace_obj' statements and w components "
+            "(only an OBJ holds them) are not written");
+  // The fast and the general path keep the same.
+  EXPECT_EQ(read_obj_general(text, "k.obj").obj->statements.size(), read_obj(text, "k.obj").obj->statements.size());
 }
 
 TEST(ObjIo, TheManifoldCheckNamesTheFileLine) {

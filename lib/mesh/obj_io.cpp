@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <charconv>
 #include <cstring>
+#include <limits>
+#include <memory>
 
 #include "common/errors.h"
 #include "common/numbers.h"
+#include "mesh/obj_source.h"
 #include "mesh/text_lines.h"
 #include "mesh/text_sink.h"
 
@@ -37,17 +40,22 @@ std::string rest_of_line(std::string_view line, std::string_view keyword) {
   return std::string(line.substr(start, end - start));
 }
 
-// Appends `v x y z`, `v x y z w` (w = 1 only) or `v x y z r g b` on line n to `soup`.
+// Appends `v x y z`, `v x y z w` or `v x y z r g b` on line n to `soup`, and w to `w`
+// (NaN for the vertices before the first w, and for any without one after it).
 // Colours start with the first coloured vertex; earlier vertices get the default grey.
 void read_vertex(const std::vector<std::string_view>& tokens, const std::string& file, std::size_t n,
-                 PolygonSoup& soup, bool& any_color) {
+                 PolygonSoup& soup, bool& any_color, std::vector<double>& w) {
   if (tokens.size() != 4 && tokens.size() != 5 && tokens.size() != 7)
     throw InputError(At{place(file, n)}, "expected 'v x y z' (or with w, or with r g b), found " +
                      std::to_string(tokens.size() - 1) + " values");
   Eigen::Vector3d p;
   for (int i = 0; i < 3; ++i) p[i] = number_or_throw(tokens[1 + i], file, n, "coordinate");
-  if (tokens.size() == 5 && number_or_throw(tokens[4], file, n, "weight") != 1.0)
-    throw InputError(At{place(file, n)}, "rational vertices (w != 1) are not supported");
+  if (tokens.size() == 5) {
+    if (w.empty()) w.assign(soup.positions.size(), std::numeric_limits<double>::quiet_NaN());
+    w.push_back(number_or_throw(tokens[4], file, n, "weight"));
+  } else if (!w.empty()) {
+    w.push_back(std::numeric_limits<double>::quiet_NaN());
+  }
   Eigen::Vector3f c(0.8f, 0.8f, 0.8f);
   if (tokens.size() == 7) {
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(number_or_throw(tokens[4 + i], file, n, "colour"));
@@ -125,6 +133,14 @@ void set_state(std::string_view line, std::string_view key, ObjState& state, boo
   }
 }
 
+// What the reader carries from line to line.
+struct ObjReadState {
+  ObjState obj;          // the o/g/usemtl/s state in force
+  bool changed = false;  // since the last element
+  bool any_color = false;
+  ObjSource extra;       // what is kept without being interpreted
+};
+
 // The fast path for the two lines that make up nearly every OBJ, `v x y z` and
 // `f c1 c2 c3 ...` (corners `v`, `v/t`, `v//n`, `v/t/n`): they are parsed in place,
 // without splitting into tokens. A fast reader returns false, having changed nothing,
@@ -146,11 +162,12 @@ bool fast_index(const char*& p, const char* end, std::size_t count, bool slash, 
   return true;
 }
 
-bool read_vertex_fast(std::string_view line, PolygonSoup& soup, bool any_color) {
+bool read_vertex_fast(std::string_view line, PolygonSoup& soup, bool any_color, std::vector<double>& w) {
   Eigen::Vector3d v;
   if (!fast_numbers_to_end(line.data() + 1, line.data() + line.size(), v.data(), 3)) return false;
   soup.positions.push_back(v);
   if (any_color) soup.colors.push_back(Eigen::Vector3f(0.8f, 0.8f, 0.8f));
+  if (!w.empty()) w.push_back(std::numeric_limits<double>::quiet_NaN());
   return true;
 }
 
@@ -207,48 +224,96 @@ void reserve_for(std::string_view text, PolygonSoup& soup) {
   soup.elements.lines.reserve(faces);
 }
 
+// Whether `key` can name an OBJ statement: a letter or '_', then letters, digits, '_'.
+// Anything else (binary junk, UTF-16 text) is refused rather than carried.
+bool statement_keyword(std::string_view key) {
+  const auto word = [](char c, bool first) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || (!first && c >= '0' && c <= '9');
+  };
+  if (key.empty() || !word(key[0], true)) return false;
+  return std::all_of(key.begin() + 1, key.end(), [&](char c) { return word(c, false); });
+}
+
+// Keeps a statement ffdtool does not interpret (line n), to be written back in place.
+void keep_statement(std::string_view line, std::string_view key, const std::string& file, std::size_t n,
+                    const PolygonSoup& soup, ObjSource& extra) {
+  if (!statement_keyword(key))
+    throw InputError(At{place(file, n)}, "unsupported OBJ statement '" + std::string(key) + "'");
+  extra.statements.push_back({soup.elements.size(), soup.positions.empty(), std::string(line)});
+  const auto it = std::find_if(extra.keywords.begin(), extra.keywords.end(),
+                               [&](const auto& k) { return k.first == key; });
+  if (it == extra.keywords.end()) extra.keywords.emplace_back(std::string(key), 1);
+  else ++it->second;
+}
+
+// A line ending in `\` (outside a comment) is continued on the next: the lines are joined
+// into `joined`, each `\` becoming a space, and `line` views it. False for other lines.
+bool join_continued(LineScanner& lines, std::string_view& line, std::string& joined) {
+  const auto continues = [](std::string_view l) {
+    return !l.empty() && l.back() == '\\' && l.find('#') == std::string_view::npos;
+  };
+  if (!continues(line)) return false;
+  joined.assign(line.substr(0, line.size() - 1));
+  std::string_view next;
+  while (lines.next(next)) {
+    joined += ' ';
+    if (!continues(next)) {
+      joined += next;
+      break;
+    }
+    joined += next.substr(0, next.size() - 1);
+  }
+  line = joined;
+  return true;
+}
+
+// One statement of the general path: every line the fast path did not take.
+void read_statement(std::string_view line, const std::vector<std::string_view>& tokens, const std::string& file,
+                    std::size_t n, PolygonSoup& soup, ObjReadState& state) {
+  const std::string_view key = tokens[0];
+  if (key == "v") {
+    read_vertex(tokens, file, n, soup, state.any_color, state.extra.w);
+  } else if (key == "vt") {
+    read_texture_coordinate(tokens, file, n, soup);
+  } else if (key == "vn") {
+    read_normal(tokens, file, n, soup);
+  } else if (key == "f" || key == "l" || key == "p") {
+    if (state.changed) {
+      soup.groups.push_back(state.obj);
+      state.changed = false;
+    }
+    const ElementKind kind = key == "f" ? ElementKind::Polygon : key == "l" ? ElementKind::Line : ElementKind::Point;
+    read_element(tokens, kind, static_cast<std::int32_t>(soup.groups.size()) - 1, file, n, soup);
+  } else if (key == "o" || key == "g" || key == "usemtl" || key == "s") {
+    set_state(line, key, state.obj, state.changed);
+  } else if (key == "mtllib") {
+    soup.header.push_back("mtllib " + rest_of_line(line, key));
+  } else {
+    keep_statement(line, key, file, n, soup, state.extra);
+  }
+}
+
 PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool fast) {
   PolygonSoup soup;
   reserve_for(text, soup);
   LineScanner lines(text);
   std::string_view line;
+  std::string joined;
   std::vector<std::string_view> tokens;
   std::vector<std::int64_t> corners;
-  ObjState state;
-  bool state_changed = false;
-  bool any_color = false;
-
+  ObjReadState state;
   while (lines.next(line)) {
     const std::size_t n = lines.number();
-    if (fast && line.size() > 2 && blank(line[1])) {
-      if (line[0] == 'v' && read_vertex_fast(line, soup, any_color)) continue;
+    const bool was_joined = join_continued(lines, line, joined);
+    if (fast && !was_joined && line.size() > 2 && blank(line[1])) {
+      if (line[0] == 'v' && read_vertex_fast(line, soup, state.any_color, state.extra.w)) continue;
       const auto group = static_cast<std::int32_t>(soup.groups.size()) - 1;
-      if (line[0] == 'f' && !state_changed && read_face_fast(line, group, n, soup, corners)) continue;
+      if (line[0] == 'f' && !state.changed && read_face_fast(line, group, n, soup, corners)) continue;
     }
     split_tokens(line, tokens);
-    if (tokens.empty()) continue;
-    const std::string_view key = tokens[0];
-    if (key == "v") {
-      read_vertex(tokens, file, n, soup, any_color);
-    } else if (key == "vt") {
-      read_texture_coordinate(tokens, file, n, soup);
-    } else if (key == "vn") {
-      read_normal(tokens, file, n, soup);
-    } else if (key == "f" || key == "l" || key == "p") {
-      if (state_changed) {
-        soup.groups.push_back(state);
-        state_changed = false;
-      }
-      const ElementKind kind = key == "f" ? ElementKind::Polygon : key == "l" ? ElementKind::Line : ElementKind::Point;
-      read_element(tokens, kind, static_cast<std::int32_t>(soup.groups.size()) - 1, file, n, soup);
-    } else if (key == "o" || key == "g" || key == "usemtl" || key == "s") {
-      set_state(line, key, state, state_changed);
-    } else if (key == "mtllib") {
-      soup.header.push_back("mtllib " + rest_of_line(line, key));
-    } else {
-      throw InputError(At{place(file, n)}, "unsupported OBJ statement '" + std::string(key) + "'");
-    }
+    if (!tokens.empty()) read_statement(line, tokens, file, n, soup, state);
   }
+  if (!state.extra.empty()) soup.obj = std::make_shared<const ObjSource>(std::move(state.extra));
   return soup;
 }
 
@@ -305,16 +370,21 @@ void put_vector_line(TextSink& out, const char* tag, const Vec& v) {
   out.put('\n');
 }
 
-}  // namespace
-
-void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal,
-               VertexColors colors) {
-  TextSink out(os);
-  for (const std::string& line : mesh.header()) {
-    out.put(line);
+// Writes the kept statements from `next` on that come before element `e` (all that are
+// left when e is past the last element); advances `next`.
+void put_statements(TextSink& out, const ObjSource* extra, std::size_t e, std::size_t& next) {
+  if (!extra) return;
+  for (; next < extra->statements.size() && extra->statements[next].before_element <= e; ++next) {
+    out.put(extra->statements[next].text);
     out.put('\n');
   }
+}
+
+// The v lines: positions, then the colour when given, else the file's w where it had one.
+void put_vertices(TextSink& out, const Mesh& mesh, VertexColors colors) {
   const ConstVec3Array p = mesh.positions();
+  const ObjSource* extra = mesh.obj_source();
+  const std::vector<double>* w = extra && !extra->w.empty() && !colors ? &extra->w : nullptr;
   for (Eigen::Index i = 0; i < p.cols(); ++i) {
     out.put('v');
     for (int k = 0; k < 3; ++k) {
@@ -326,8 +396,31 @@ void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transf
         out.put(' ');
         out.number((*colors)[static_cast<std::size_t>(i)][k]);
       }
+    if (w && !std::isnan((*w)[static_cast<std::size_t>(i)])) {
+      out.put(' ');
+      out.number((*w)[static_cast<std::size_t>(i)]);
+    }
     out.put('\n');
   }
+}
+
+}  // namespace
+
+void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal,
+               VertexColors colors) {
+  TextSink out(os);
+  for (const std::string& line : mesh.header()) {
+    out.put(line);
+    out.put('\n');
+  }
+  const ObjSource* extra = mesh.obj_source();
+  std::size_t next = 0;  // the first kept statement not yet written
+  if (extra)
+    for (; next < extra->statements.size() && extra->statements[next].before_vertices; ++next) {
+      out.put(extra->statements[next].text);
+      out.put('\n');
+    }
+  put_vertices(out, mesh, colors);
   for (const Eigen::Vector2d& t : mesh.uvs()) put_vector_line(out, "vt", t);
   // Normals: each corner's file normal carried to its vertex's deformed frame.
   const CornerNormals normals = transformed_file_normals(mesh, transform_normal);
@@ -337,6 +430,7 @@ void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transf
   static const ObjState none;
   std::int32_t current = -1;  // the group in force: none until a statement sets one
   for (std::size_t e = 0; e < el.size(); ++e) {
+    put_statements(out, extra, e, next);
     const std::int32_t g = el.group(e);
     if (g != current) {
       put_state_change(out, current >= 0 ? mesh.groups()[current] : none, g >= 0 ? mesh.groups()[g] : none);
@@ -344,6 +438,7 @@ void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transf
     }
     put_element(out, el, e, normals.corner);
   }
+  put_statements(out, extra, el.size(), next);
   out.flush();
 }
 
