@@ -15,9 +15,12 @@
 
 #include "common/atomic_file.h"
 #include "common/errors.h"
+#include "common/numbers.h"
 #include "mesh/build_mesh.h"
+#include "mesh/obj_source.h"
 #include "mesh/off_io.h"
 #include "mesh/ply_io.h"
+#include "mesh/ply_source.h"
 #include "mesh/ply_stl_io.h"
 #include "mesh/stl_io.h"
 #include "mesh/vertex_colors.h"
@@ -197,6 +200,46 @@ void check_writable(const Mesh& mesh, MeshFormat format, const std::string& path
                                  " point elements (OBJ l and p); save it as .obj to keep them");
 }
 
+std::vector<std::string> uninterpreted_data(const Mesh& mesh) {
+  std::vector<std::string> notes;
+  if (const ObjSource* obj = mesh.obj_source_as_read())
+    for (const auto& [key, count] : obj->keywords)
+      notes.push_back(format_count(count) + " OBJ '" + key + "' statement" + (count > 1 ? "s are" : " is") +
+                      " not interpreted; an OBJ output writes " + (count > 1 ? "them" : "it") + " back in place");
+  return notes;
+}
+
+namespace {
+
+// What only an OBJ output carries of the OBJ file the mesh was read from.
+std::string unwritten_obj_data(const Mesh& mesh, MeshFormat format) {
+  const ObjSource* obj = mesh.obj_source_as_read();
+  if (!obj || (format == MeshFormat::Obj && mesh.obj_source())) return {};
+  std::string lost;
+  for (const auto& [key, count] : obj->keywords) lost += (lost.empty() ? "the OBJ file's '" : ", '") + key + "'";
+  if (!lost.empty()) lost += " statements";
+  if (!obj->w.empty()) lost += lost.empty() ? "the OBJ file's w components" : " and w components";
+  return lost + (format == MeshFormat::Obj ? " (the steps changed the connectivity)" : " (only an OBJ holds them)");
+}
+
+}  // namespace
+
+std::string unwritten_data(const Mesh& mesh, MeshFormat format) {
+  std::string lost = unwritten_obj_data(mesh, format);
+  const PlySource* ply = mesh.ply_source_as_read();
+  const bool faithful = format == MeshFormat::Ply && mesh.ply_source();
+  if (ply && !faithful) {
+    const std::vector<std::string> names = ply->carried_only_here();
+    std::string ply_lost;
+    for (std::size_t i = 0; i < names.size(); ++i) ply_lost += (i ? ", " : "the PLY file's ") + names[i];
+    if (!ply_lost.empty())
+      lost += ply_lost + (format == MeshFormat::Ply ? " (the steps changed the connectivity)" : " (only a PLY holds them)");
+  }
+  if (format == MeshFormat::Ply && !faithful && mesh.has_uvs() && vertex_uvs(mesh).empty())
+    lost += std::string(lost.empty() ? "" : "; ") + "the UVs (a vertex's corners have different ones, and PLY holds one per vertex)";
+  return lost.empty() ? lost : lost + " are not written";
+}
+
 void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh, const WriteOptions& options) {
   Eigen::Matrix3Xd normals;
   if (mesh.has_file_normals() && format != MeshFormat::Obj && format != MeshFormat::Stl)
@@ -214,7 +257,8 @@ void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh, const Wri
       write_off(os, mesh, vertex_normals, colors);
       break;
     case MeshFormat::Ply:
-      write_ply(os, mesh, vertex_normals, colors, binary);
+      if (mesh.ply_source()) write_ply_source(os, mesh, vertex_normals, options.colors.empty() ? nullptr : &options.colors, binary);
+      else write_ply(os, mesh, vertex_normals, colors, binary);
       break;
     case MeshFormat::Stl:
       write_stl(os, mesh, binary);

@@ -46,6 +46,15 @@ struct WriteOptions {
 /// \throw InputError naming `path` otherwise.
 void check_writable(const Mesh& mesh, MeshFormat format, const std::string& path);
 
+/// What the reader kept without interpreting it (an OBJ's `vw`, `mg`, ... statements),
+/// one note per kind, for the run's warnings.
+std::vector<std::string> uninterpreted_data(const Mesh& mesh);
+
+/// What writing `mesh` in `format` leaves out of what it carries, as a phrase for a
+/// warning ("the PLY file's vertex alpha, face red are not written (only a PLY holds
+/// them)"), or empty when the file holds it all.
+std::string unwritten_data(const Mesh& mesh, MeshFormat format);
+
 /// Writes `mesh` in `format` to `os` (elements a format cannot hold are left out:
 /// check_writable first). A .gltf written this way embeds its buffers.
 void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh,

@@ -14,6 +14,8 @@ std::size_t stage_mesh(Scene& scene, const std::string& relative, const WriteOpt
 }
 
 std::size_t stage_mesh_at(Scene& scene, const std::string& path, const WriteOptions& options) {
+  if (const std::string lost = unwritten_data(scene.mesh, mesh_format(path)); !lost.empty())
+    scene.warnings.push_back(path + ": " + lost);
   std::size_t bytes = 0;
   for (StagedFile& f : stage_mesh_files(path, scene.mesh, options, &bytes)) scene.staged.push_back(std::move(f));
   return bytes;

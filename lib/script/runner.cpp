@@ -92,6 +92,14 @@ bool gltf_notes(const RunOptions& options, Scene& scene) {
   return gltf.instances > 0;
 }
 
+// Says what the reader kept without interpreting it (an OBJ's `vw`, `mg`, ... statements).
+void reader_warnings(const RunOptions& options, Scene& scene) {
+  for (const std::string& note : uninterpreted_data(scene.mesh)) {
+    scene.warnings.push_back(options.mesh + ": " + note);
+    if (!options.quiet) std::fprintf(stderr, "  warning: %s\n", scene.warnings.back().c_str());
+  }
+}
+
 // A glTF written after a connectivity change cannot keep its source's structure: says so.
 void warn_if_gltf_flattened(const RunOptions& options, Scene& scene, bool from_gltf) {
   const MeshFormat format = mesh_format(options.output);
@@ -204,11 +212,15 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
                  format_count(scene.mesh.num_vertices()).c_str(), format_count(scene.mesh.num_faces()).c_str(),
                  format_ms(stats["input"]["read_ms"].get<double>()).c_str());
   const bool from_gltf = gltf_notes(options, scene);
+  reader_warnings(options, scene);
   stats["steps"] = run_steps(script, scene, options);
 
   warn_if_gltf_flattened(options, scene, from_gltf);
   Stopwatch write_clock;
+  const std::size_t warnings_before = scene.warnings.size();
   stage_mesh_at(scene, options.output, scene.write_options());
+  for (std::size_t w = warnings_before; w < scene.warnings.size() && !options.quiet; ++w)
+    std::fprintf(stderr, "  warning: %s\n", scene.warnings[w].c_str());
   if (!options.preview.empty()) stage_preview(scene, options.preview);
   output_stats(stats, options.output, scene, write_clock.ms(), total.ms());
   if (!options.stats.empty()) stage_stats(options.stats, stats, scene);
@@ -236,6 +248,7 @@ nlohmann::ordered_json run_in_memory(const Script& script, Scene& scene, const M
   step_options.mesh = options.mesh.empty() ? "mesh" : options.mesh;
   step_options.quiet = options.quiet;
   gltf_notes(step_options, scene);
+  reader_warnings(step_options, scene);
   stats["steps"] = run_steps(script, scene, step_options);
   output_stats(stats, nullptr, scene, 0.0, total.ms());
   for (StagedFile& file : scene.staged) file.commit();
