@@ -13,6 +13,7 @@ packages=(
   libxml2-utils
   python3
   python3-dev pybind11-dev python3-numpy python3-scipy python3-pytest
+  python3-meshio
 )
 
 missing=()
