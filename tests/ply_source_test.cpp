@@ -125,6 +125,11 @@ TEST(PlySource, AnUnchangedFileIsWrittenBackByteForByte) {
     ASSERT_NE(mesh.ply_source(), nullptr);
     EXPECT_EQ(written(mesh), file);
   }
+  // A point cloud with normals (no element holds its vertices): the normals are its own.
+  const std::string cloud =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\nproperty double z\n"
+      "property double nx\nproperty double ny\nproperty double nz\nend_header\n0 0 0 0 0 2\n1 0 0 0.5 0 0\n";
+  EXPECT_EQ(written(read_ply_mesh(cloud)), cloud);
   // Line ends as the file has them: CRLF, and a lone CR (old Mac and Rhino exports).
   for (const char* end : {"\r\n", "\r"}) {
     std::string file;

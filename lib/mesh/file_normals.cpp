@@ -60,15 +60,20 @@ VertexFileNormals vertex_file_normals(const Mesh& mesh, const NormalTransform& t
   out.value.assign(mesh.num_vertices(), Eigen::Vector3d::Zero());
   out.has.assign(mesh.num_vertices(), 0);
   out.moved.assign(mesh.num_vertices(), 0);
-  if (el.corner_normals.empty()) return out;
-  for (std::size_t c = 0; c < el.corners.size(); ++c) {
-    const std::uint32_t v = el.corners[c];
-    if (out.has[v] || el.corner_normals[c] < 0) continue;
-    const Eigen::Vector3d n = mesh.file_normals()[el.corner_normals[c]];
+  const auto take = [&](std::uint32_t v, const Eigen::Vector3d& n) {
     out.value[v] = transform ? transform(v, n) : n;
     out.moved[v] = out.value[v] != n;
     out.has[v] = 1;
+  };
+  for (std::size_t c = 0; c < el.corners.size() && !el.corner_normals.empty(); ++c) {
+    const std::uint32_t v = el.corners[c];
+    if (!out.has[v] && el.corner_normals[c] >= 0) take(v, mesh.file_normals()[el.corner_normals[c]]);
   }
+  // A PLY's normals are one per vertex (its reader makes the table so): a vertex in no
+  // element, a point of a cloud, has its own too.
+  if (mesh.ply_source_as_read() && mesh.file_normals().size() == mesh.num_vertices())
+    for (std::uint32_t v = 0; v < out.has.size(); ++v)
+      if (!out.has[v]) take(v, mesh.file_normals()[v]);
   return out;
 }
 
