@@ -2,11 +2,13 @@
 // in ply_stl_io.h.
 //
 // Read: the header (`ply`, `format`, `comment`, `obj_info`, `element`, `property`,
-// `property list`, `end_header`, LF or CRLF), every scalar type and its alias. Element
-// `vertex`: x y z, optional nx ny nz, red green blue (integer types / 255, floats as
-// they are) and texture coordinates (u v, s t or texture_u texture_v); element `face`:
-// the list vertex_indices or vertex_index. Any other element or property is skipped by
-// its declared types. No byte sequence crashes it: every count is checked against the
+// `property list`, `end_header`, LF, CRLF or CR), every scalar type and its alias. Element
+// `vertex`: x y z, optional nx ny nz, red green blue (or diffuse_red ...: integer types
+// / 255, floats as they are) and texture coordinates (u v, s t or texture_u texture_v);
+// element `face`: the list vertex_indices or vertex_index; element `tristrips`: strips
+// with -1 restarts, as triangles. A repeated property name has its first one's meaning.
+// Every element and property, these included, is also kept in the soup's PlySource
+// (ply_source.h), so that a PLY write gives the file back. No byte sequence crashes it: every count is checked against the
 // bytes left before anything is allocated. CGAL's reader stays as the oracle in tests.
 #pragma once
 
