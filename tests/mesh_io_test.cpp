@@ -411,6 +411,22 @@ TEST(OffIo, ReadsCountsOnTheHeaderLineAndCrlf) {
   EXPECT_EQ(soup_faces[0].vertices, (std::vector<std::uint32_t>{0, 1, 2, 3}));
 }
 
+// OFF is whitespace-separated: a face record may wrap over lines, its colour on the last.
+TEST(OffIo, ReadsFaceRecordsWrappedOverSeveralLines) {
+  const std::string text = "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 2 1\n4 0 1\n  2 3\n3 2\n3\n4 255 0 0\n";
+  for (const bool fast : {true, false}) {
+    const PolygonSoup soup = fast ? read_off(text, "w.off") : read_off_general(text, "w.off");
+    const std::vector<test::SoupFace> faces = test::soup_faces(soup);
+    ASSERT_EQ(faces.size(), 2u);
+    EXPECT_EQ(faces[0].vertices, (std::vector<std::uint32_t>{0, 1, 2, 3}));
+    EXPECT_EQ(faces[0].line, 8u);
+    EXPECT_EQ(faces[1].vertices, (std::vector<std::uint32_t>{2, 3, 4}));
+    EXPECT_EQ(faces[1].line, 10u);
+  }
+  test::expect_input_error([&] { read_off("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0\n1 9\n", "w.off"); },
+                           "w.off:6:", {"'9'", "out of range"});
+}
+
 // ---------------------------------------------------------------------------------------
 // Agreement with independent readers
 

@@ -177,6 +177,19 @@ bool read_face_fast(std::string_view line, const OffHeader& header, long long nv
   return true;
 }
 
+// A face record may wrap over several lines (OFF is whitespace-separated, and some
+// exporters break long polygons): while t holds fewer indices than its count t[0], the
+// next lines' tokens join it. A colour after the indices stays on the record's last line.
+void join_wrapped_face(LineScanner& lines, std::vector<std::string_view>& t, std::vector<std::string_view>& more) {
+  long long k;
+  if (!parse_integer(t[0], k)) return;  // read_face names the bad count
+  std::string_view line;
+  while (static_cast<long long>(t.size()) - 1 < k && lines.next(line)) {
+    split_tokens(line, more);
+    t.insert(t.end(), more.begin(), more.end());
+  }
+}
+
 // The next non-blank line's tokens into t; false at the end of the text.
 bool next_tokens(LineScanner& lines, std::vector<std::string_view>& t) {
   std::string_view line;
@@ -221,11 +234,15 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
   }
   soup.elements.reserve(static_cast<std::size_t>(nf), 3);
   std::vector<std::uint32_t> corners;
+  std::vector<std::string_view> more;
   while (static_cast<long long>(soup.elements.size()) < nf) {
     if (!lines.next(line)) throw ends_early(file, counts_line, soup.elements.size(), nf, "faces");
     if (fast && read_face_fast(line, header, nv, lines.number(), soup, corners)) continue;
     split_tokens(line, t);
-    if (!t.empty()) read_face(t, header, nv, file, lines.number(), soup, corners);
+    if (t.empty()) continue;
+    const std::size_t first = lines.number();  // a wrapped record is named by its first line
+    join_wrapped_face(lines, t, more);
+    read_face(t, header, nv, file, first, soup, corners);
   }
   if (next_tokens(lines, t)) throw InputError(At{place(file, lines.number())}, "unexpected data after the last face");
   return soup;
