@@ -14,7 +14,11 @@ packages=(
   python3
   python3-dev pybind11-dev python3-numpy python3-scipy python3-pytest
   python3-meshio
+  assimp-utils
 )
+# Node (Debian's nodejs, with npm) runs Khronos' glTF-Validator; a machine that has node
+# and npm from elsewhere keeps them.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then packages+=(nodejs npm); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -23,15 +27,24 @@ for p in "${packages[@]}"; do
   fi
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "setup: all ${#packages[@]} packages present"
-  exit 0
-fi
-
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-echo "setup: installing ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages present"
+else
+  echo "setup: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# Khronos' glTF-Validator, from npm's registry (the glTF tests run it with node), into a
+# cache outside the repository; tests/gltf/validate.js finds it there.
+validator_version=2.0.0-dev.3.10
+npm_prefix="${FFD_NPM_PREFIX:-$HOME/.cache/ffdtool/npm}"
+if ! grep -qs "\"version\": \"$validator_version\"" "$npm_prefix/node_modules/gltf-validator/package.json"; then
+  echo "setup: installing gltf-validator $validator_version into $npm_prefix"
+  mkdir -p "$npm_prefix"
+  npm install --prefix "$npm_prefix" --no-audit --no-fund --no-save "gltf-validator@$validator_version"
+fi
 echo "setup: done"

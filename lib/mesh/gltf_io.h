@@ -15,14 +15,17 @@
 // in its base shape (the targets' offsets are kept); the scene's notes say so. A node
 // scaled to zero (no inverse) is read flat and written back as it was.
 //
-// Writing keeps the file's structure: nodes, meshes, primitives, materials, textures,
-// images, samplers, animations, skins, extensions and extras untouched. POSITION and
-// NORMAL data are replaced in place, in each node's local space again (POSITION's
-// min/max updated); every other attribute (TEXCOORD_n, TANGENT, COLOR_n, JOINTS_n,
-// WEIGHTS_n) is carried over as it was. An instanced mesh whose instances no longer
-// agree after the deformation is split: each further node gets its own copy of the mesh
-// with its own POSITION and NORMAL accessors (appended to buffer 0), so every instance
-// is where the deformation put it. A mesh with no glTF source (another format), or
+// Writing patches the file's own JSON (gltf_document.h): POSITION and NORMAL data are
+// replaced in place, in each node's local space again, with the min and max of each
+// accessor rewritten recomputed; everything else in the document (nodes, meshes,
+// materials, textures, images, samplers, animations, skins, cameras, extensions, extras,
+// names, empty objects, absent optional values) is written back as read, and every other
+// attribute's data (TEXCOORD_n, TANGENT, COLOR_n, JOINTS_n, WEIGHTS_n) stays byte for
+// byte. A POSITION accessor whose min and max are not its data's bounds is read with a
+// warning (gltf_warnings). An instanced mesh whose instances no longer agree after the
+// deformation is split: each further node gets its own copy of the mesh with its own
+// POSITION and NORMAL accessors (appended to buffer 0), so every instance is where the
+// deformation put it. A mesh with no glTF source (another format), or
 // whose connectivity changed (remesh), is written as one node, one mesh and one
 // primitive of triangles with POSITION and NORMAL.
 #pragma once
@@ -53,6 +56,10 @@ Mesh read_gltf(std::string_view bytes, const std::string& path, bool binary);
 
 /// The summary of the glTF source of `mesh`; all zero when it has none.
 GltfSummary gltf_summary(const Mesh& mesh);
+
+/// What the reader of the glTF source of `mesh` accepted against the spec (accessor
+/// bounds that are not the data's), one line each.
+std::vector<std::string> gltf_warnings(const Mesh& mesh);
 
 struct GltfScene;
 /// Whether `file` (absolute, normalized) is one the scene's buffers were read from.

@@ -12,6 +12,7 @@
 #include "common/errors.h"
 #include "mesh/build_mesh.h"
 #include "mesh/gltf_accessors.h"
+#include "mesh/gltf_document.h"
 #include "mesh/gltf_io.h"
 #include "mesh/gltf_scene.h"
 
@@ -19,29 +20,14 @@ namespace ffd {
 
 namespace {
 
-std::string base64(const unsigned char* p, std::size_t n) {
-  static const char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((n + 2) / 3 * 4);
-  for (std::size_t i = 0; i < n; i += 3) {
-    const std::uint32_t v = (std::uint32_t(p[i]) << 16) | (i + 1 < n ? std::uint32_t(p[i + 1]) << 8 : 0) |
-                            (i + 2 < n ? std::uint32_t(p[i + 2]) : 0);
-    out += digits[(v >> 18) & 63];
-    out += digits[(v >> 12) & 63];
-    out += i + 1 < n ? digits[(v >> 6) & 63] : '=';
-    out += i + 2 < n ? digits[v & 63] : '=';
-  }
-  return out;
-}
-
 // Images stay as they are in the file: never decoded, written back by reference. tinygltf
 // keeps the URI of an external image and the bufferView of an embedded one, but a data
 // URI only as its decoded bytes, so that URI is rebuilt from them.
 bool keep_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
                 int size, void*) {
   if (image->uri.empty() && image->bufferView < 0 && bytes && size > 0)
-    image->uri = "data:" + (image->mimeType.empty() ? std::string("application/octet-stream") : image->mimeType) +
-                 ";base64," + base64(bytes, static_cast<std::size_t>(size));
+    image->uri = data_uri(bytes, static_cast<std::size_t>(size),
+                          image->mimeType.empty() ? std::string("application/octet-stream") : image->mimeType);
   return true;
 }
 
@@ -150,6 +136,24 @@ struct RunTables {
   std::int64_t uv_base = -1, normal_base = -1;
 };
 
+// A POSITION accessor's min and max must be its values' bounds (glTF 2.0 section
+// 3.6.2.5). Viewers cull and fit by them, but ffdtool reads the data itself, so a file
+// whose bounds disagree is read with a warning, and a write recomputes the bounds of
+// every accessor it rewrites.
+void check_bounds(const tinygltf::Accessor& a, const std::vector<Eigen::Vector3f>& p, GltfScene& scene,
+                  const std::string& what) {
+  if (p.empty() || a.minValues.size() != 3 || a.maxValues.size() != 3) return;
+  Eigen::Vector3f lo = p[0], hi = p[0];
+  for (const Eigen::Vector3f& v : p) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  for (int k = 0; k < 3; ++k)
+    if (static_cast<double>(lo[k]) != a.minValues[k] || static_cast<double>(hi[k]) != a.maxValues[k]) {
+      const std::string note = what + ": its min and max are not its values' bounds; a write recomputes them";
+      if (std::find(scene.warnings.begin(), scene.warnings.end(), note) == scene.warnings.end())
+        scene.warnings.push_back(note);
+      return;
+    }
+}
+
 // Reads the vertices of (instance, POSITION, NORMAL) into the soup, in world space.
 RunTables add_run(tinygltf::Model& model, GltfScene& scene, PolygonSoup& soup, std::size_t instance,
                   const tinygltf::Primitive& prim, const std::string& what) {
@@ -172,6 +176,7 @@ RunTables add_run(tinygltf::Model& model, GltfScene& scene, PolygonSoup& soup, s
   const double det = w.topLeftCorner<3, 3>().determinant();
   const Eigen::Matrix3d normal_matrix = std::isfinite(det) && det != 0 ? Eigen::Matrix3d(w.topLeftCorner<3, 3>().inverse().transpose())
                                                                          : Eigen::Matrix3d::Identity();
+  check_bounds(model.accessors[pos], p, scene, "accessor " + std::to_string(pos) + " (POSITION of " + what + ")");
   RunTables t;
   t.run = scene.runs.size();
   scene.runs.push_back({instance, pos, nrm, static_cast<std::uint32_t>(soup.positions.size()),
@@ -310,9 +315,9 @@ std::string decoded_uri(const std::string& uri);
 void record_buffers(const tinygltf::Model& model, GltfScene& scene, const std::string& path) {
   const std::filesystem::path base = std::filesystem::absolute(path).parent_path();
   for (const tinygltf::Buffer& b : model.buffers) {
-    const bool data_uri = b.uri.rfind("data:", 0) == 0;
-    scene.buffer_embedded.push_back(data_uri);
-    if (!b.uri.empty() && !data_uri) scene.buffer_files.push_back((base / decoded_uri(b.uri)).lexically_normal());
+    const bool embedded = b.uri.rfind("data:", 0) == 0;
+    scene.buffer_embedded.push_back(embedded);
+    if (!b.uri.empty() && !embedded) scene.buffer_files.push_back((base / decoded_uri(b.uri)).lexically_normal());
   }
 }
 
@@ -322,6 +327,7 @@ Mesh read_gltf(std::string_view bytes, const std::string& path, bool binary) {
   auto scene = std::make_shared<GltfScene>();
   scene->model = parse_model(bytes, path, binary);
   scene->binary = binary;
+  scene->json = binary ? glb_json_chunk(bytes) : std::string(bytes);
   PolygonSoup soup;
   try {
     scene->instances = scene_instances(scene->model, path);
@@ -393,6 +399,11 @@ std::vector<CompanionFile> gltf_image_files(const Mesh& mesh) {
 std::filesystem::path gltf_folder(const Mesh& mesh) {
   const GltfScene* scene = mesh.gltf_scene();
   return scene ? scene->folder : std::filesystem::path();
+}
+
+std::vector<std::string> gltf_warnings(const Mesh& mesh) {
+  const GltfScene* scene = mesh.gltf_scene();
+  return scene ? scene->warnings : std::vector<std::string>();
 }
 
 GltfSummary gltf_summary(const Mesh& mesh) {

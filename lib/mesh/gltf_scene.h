@@ -1,5 +1,6 @@
-// What a Mesh read from glTF keeps of its file (gltf_io.h): the tinygltf model as read,
-// and where each primitive's vertices went. Only the glTF reader and writer include it.
+// What a Mesh read from glTF keeps of its file (gltf_io.h): the tinygltf model and the
+// JSON as read, and where each primitive's vertices went. Only the glTF reader and writer
+// include it.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,6 +33,8 @@ struct GltfRun {
 
 struct GltfScene {
   tinygltf::Model model;
+  /// The file's JSON (a GLB's JSON chunk), which a write patches (gltf_document.h).
+  std::string json;
   std::vector<GltfInstance> instances;  // depth-first order of the default scene
   std::vector<GltfRun> runs;            // by first vertex
   std::size_t num_vertices = 0;         // the mesh's vertex count when read
@@ -43,6 +46,8 @@ struct GltfScene {
   /// Buffer i was a data URI in the source (a .gltf write embeds it again).
   std::vector<bool> buffer_embedded;
   std::vector<std::string> notes;
+  /// What the file holds that is not as the spec says but was read anyway.
+  std::vector<std::string> warnings;
 };
 
 }  // namespace ffd

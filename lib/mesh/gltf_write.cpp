@@ -1,5 +1,6 @@
-// The glTF writer (gltf_io.h): the source's structure with new positions and normals, or
-// a plain one-primitive file for a mesh without a glTF source.
+// The glTF writer (gltf_io.h): the source document patched with new positions and
+// normals (gltf_document.h), or a plain one-primitive file for a mesh without a glTF
+// source.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -10,18 +11,13 @@
 
 #include "common/errors.h"
 #include "mesh/gltf_accessors.h"
+#include "mesh/gltf_document.h"
 #include "mesh/gltf_io.h"
 #include "mesh/gltf_scene.h"
 
 namespace ffd {
 
 namespace {
-
-// Images are written back by reference (uri, data URI or bufferView), never re-encoded.
-bool keep_image_reference(const std::string*, const std::string*, const tinygltf::Image*, bool, std::string*,
-                          void*) {
-  return false;
-}
 
 // One run's data in its node's local space. A vertex the deformation left where the
 // reader put it keeps the file's float bits exactly.
@@ -166,33 +162,66 @@ tinygltf::Model plain_model(const Mesh& mesh, const NormalTransform& transform) 
   return model;
 }
 
-// Serializes `model` as .gltf JSON to `os`. Buffer i is written to a companion file
-// (named after `stem`) when `external[i]`, else embedded as a data URI. tinygltf's own
-// file writer can only do all of one or the other, and drops an external image's
-// mimeType, so its stream output (buffers embedded) is edited here.
-void write_gltf_json(std::ostream& os, tinygltf::Model& model, const std::vector<char>& external,
-                     const std::string& stem, std::vector<CompanionFile>* companions) {
-  std::vector<std::vector<unsigned char>> held(model.buffers.size());
-  for (std::size_t i = 0; i < model.buffers.size(); ++i) {
-    model.buffers[i].uri.clear();
-    if (external[i]) held[i] = std::move(model.buffers[i].data), model.buffers[i].data.clear();
-  }
+// Serializes the plain `model` (one buffer) as .gltf JSON to `os`, its buffer in a
+// companion file named after `stem` when `companions` is given, else as a data URI
+// (tinygltf's stream writer embeds it; the file writer cannot name the companion).
+void write_plain_json(std::ostream& os, tinygltf::Model& model, const std::string& stem,
+                      std::vector<CompanionFile>* companions) {
+  std::vector<unsigned char> held;
+  if (companions) held = std::move(model.buffers[0].data), model.buffers[0].data.clear();
   tinygltf::TinyGLTF writer;
-  writer.SetImageWriter(keep_image_reference, nullptr);
   std::ostringstream text;
   if (!writer.WriteGltfSceneToStream(&model, text, false, false)) throw IoError("tinygltf could not write the glTF file");
   nlohmann::json j = nlohmann::json::parse(text.str());
-  std::size_t files = 0;
-  for (std::size_t i = 0; i < held.size(); ++i) {
-    if (!external[i]) continue;
-    const std::string name = stem + (files++ == 0 ? "" : "_" + std::to_string(files - 1)) + ".bin";
-    j["buffers"][i]["uri"] = name;
-    j["buffers"][i]["byteLength"] = held[i].size();
-    companions->push_back({name, std::move(held[i])});
+  if (companions) {
+    j["buffers"][0]["uri"] = stem + ".bin";
+    j["buffers"][0]["byteLength"] = held.size();
+    companions->push_back({stem + ".bin", std::move(held)});
   }
-  for (std::size_t i = 0; i < model.images.size(); ++i)
-    if (!model.images[i].mimeType.empty() && !model.images[i].uri.empty()) j["images"][i]["mimeType"] = model.images[i].mimeType;
   os << j.dump(2) << "\n";
+}
+
+}  // namespace
+
+namespace {
+
+// How each buffer of the deformed model goes out (gltf_document.h). A GLB's buffer 0 is
+// its BIN chunk. A buffer that was a data URI and is unchanged keeps its URI as read;
+// with companions, a .gltf's other buffers go to files named after `stem`; the rest are
+// embedded as data URIs.
+std::vector<BufferUri> buffer_uris(const GltfScene& scene, const tinygltf::Model& model, bool binary,
+                                   const std::string& stem, std::vector<CompanionFile>* companions) {
+  std::vector<BufferUri> uris(model.buffers.size());
+  std::size_t files = 0;
+  for (std::size_t i = 0; i < uris.size(); ++i) {
+    const std::vector<unsigned char>& data = model.buffers[i].data;
+    const bool was_embedded = i < scene.buffer_embedded.size() && scene.buffer_embedded[i];
+    if (binary && i == 0) {
+      uris[i].kind = BufferUri::Kind::Erase;
+    } else if (was_embedded && data == scene.model.buffers[i].data) {
+      uris[i].kind = BufferUri::Kind::Keep;
+    } else if (!binary && companions && !was_embedded) {
+      const std::string name = stem + (files++ == 0 ? "" : "_" + std::to_string(files - 1)) + ".bin";
+      uris[i] = {BufferUri::Kind::Set, name};
+      companions->push_back({name, data});
+    } else {
+      uris[i] = {BufferUri::Kind::Set, data_uri(data.data(), data.size(), "application/octet-stream")};
+    }
+  }
+  return uris;
+}
+
+// The source document patched with the deformed model (gltf_document.h).
+void write_source_gltf(std::ostream& os, const Mesh& mesh, const GltfScene& scene, const NormalTransform& transform,
+                       bool binary, const std::string& stem, std::vector<CompanionFile>* companions) {
+  const tinygltf::Model model = deformed_model(mesh, scene, transform);
+  const std::vector<BufferUri> uris = buffer_uris(scene, model, binary, stem, companions);
+  if (!binary) {
+    os << patched_gltf_json(scene, model, uris, 2) << "\n";
+    return;
+  }
+  static const std::vector<unsigned char> none;
+  write_glb(os, patched_gltf_json(scene, model, uris, -1), model.buffers.empty() ? none : model.buffers[0].data);
 }
 
 }  // namespace
@@ -200,21 +229,12 @@ void write_gltf_json(std::ostream& os, tinygltf::Model& model, const std::vector
 void write_gltf(std::ostream& os, const Mesh& mesh, const NormalTransform& transform_normal, bool binary,
                 const std::string& stem, std::vector<CompanionFile>* companions) {
   const GltfScene* scene = mesh.gltf_scene();
-  const bool structured = scene && scene->num_vertices == mesh.num_vertices();
-  tinygltf::Model model = structured ? deformed_model(mesh, *scene, transform_normal) : plain_model(mesh, transform_normal);
-  if (!binary) {
-    // With companions, the buffers that were files (or that a GLB or another format had
-    // inline) go to files; the source's data-URI buffers stay embedded.
-    std::vector<char> external(model.buffers.size(), 0);
-    for (std::size_t i = 0; companions && i < external.size(); ++i)
-      external[i] = !(structured && i < scene->buffer_embedded.size() && scene->buffer_embedded[i]);
-    return write_gltf_json(os, model, external, stem, companions);
-  }
-  // The stream writer embeds every buffer: buffer 0 as the BIN chunk (it has no uri), the
-  // others as data URIs.
-  for (tinygltf::Buffer& b : model.buffers) b.uri.clear();
+  if (scene && scene->num_vertices == mesh.num_vertices())
+    return write_source_gltf(os, mesh, *scene, transform_normal, binary, stem, companions);
+  tinygltf::Model model = plain_model(mesh, transform_normal);
+  if (!binary) return write_plain_json(os, model, stem, companions);
+  // The stream writer embeds the buffer as the BIN chunk (it has no uri).
   tinygltf::TinyGLTF writer;
-  writer.SetImageWriter(keep_image_reference, nullptr);
   if (!writer.WriteGltfSceneToStream(&model, os, false, true)) throw IoError("tinygltf could not write the glTF file");
 }
 

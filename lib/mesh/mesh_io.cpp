@@ -206,6 +206,7 @@ std::vector<std::string> uninterpreted_data(const Mesh& mesh) {
     for (const auto& [key, count] : obj->keywords)
       notes.push_back(format_count(count) + " OBJ '" + key + "' statement" + (count > 1 ? "s are" : " is") +
                       " not interpreted; an OBJ output writes " + (count > 1 ? "them" : "it") + " back in place");
+  for (const std::string& note : gltf_warnings(mesh)) notes.push_back(note);
   return notes;
 }
 

@@ -47,7 +47,8 @@ struct WriteOptions {
 void check_writable(const Mesh& mesh, MeshFormat format, const std::string& path);
 
 /// What the reader kept without interpreting it (an OBJ's `vw`, `mg`, ... statements),
-/// one note per kind, for the run's warnings.
+/// one note per kind, and what it accepted against the spec (a glTF accessor's wrong
+/// bounds), for the run's warnings.
 std::vector<std::string> uninterpreted_data(const Mesh& mesh);
 
 /// What writing `mesh` in `format` leaves out of what it carries, as a phrase for a

@@ -1,0 +1,41 @@
+// The glTF source document, patched (gltf_io.h). A write of a mesh read from glTF edits
+// the JSON the file was read from rather than serializing tinygltf's model: only what
+// the deformation changed is touched (the accessors it rewrote, their min and max, the
+// buffer views, accessors and meshes it appended, the nodes it re-pointed, the buffers'
+// lengths and URIs). Everything else, including what tinygltf does not model (empty
+// objects, absent optional values, unknown extensions, animation pointers, names), goes
+// back as read. Only the glTF reader and writer include it.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mesh/gltf_scene.h"
+
+namespace ffd {
+
+/// The JSON chunk of a GLB whose header tinygltf has checked (empty if it has none).
+std::string glb_json_chunk(std::string_view bytes);
+
+/// What a patched document says of buffer i's "uri".
+struct BufferUri {
+  enum class Kind { Keep, Erase, Set } kind = Kind::Keep;  // Erase: a GLB's BIN chunk
+  std::string uri;                                           // for Set
+};
+
+/// `scene.json` with what `model` (the scene's model after a deformation: same arrays,
+/// possibly longer) changed, and buffer i's uri as `uris[i]` says. `indent` < 0 writes
+/// compact JSON. \throw IoError if the source document does not parse (tinygltf read it).
+std::string patched_gltf_json(const GltfScene& scene, const tinygltf::Model& model, const std::vector<BufferUri>& uris,
+                              int indent);
+
+/// Writes a GLB container: `json` padded with spaces, `bin` (if not empty) as the BIN
+/// chunk padded with zeros.
+void write_glb(std::ostream& os, const std::string& json, const std::vector<unsigned char>& bin);
+
+/// `bytes` as a base64 data URI of MIME type `mime`.
+std::string data_uri(const unsigned char* bytes, std::size_t size, const std::string& mime);
+
+}  // namespace ffd

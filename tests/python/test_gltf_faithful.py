@@ -1,0 +1,172 @@
+"""Every glTF of the corpus (gltf_corpus.py) through `ffdtool run`, unmoved and moved, as
+.gltf (external buffer) and .glb:
+
+- the output's JSON is the input's, but for what the deformation changed: the POSITION
+  and NORMAL accessors' data and bounds, the buffers' URIs and lengths, and what a split
+  instance appends;
+- Khronos' glTF-Validator finds no error in the output that it does not find in the input;
+- assimp (Debian's assimp-utils), an independent reader, loads the output as it loads
+  the input;
+- unmoved, the positions are the input's bit for bit; moved, every POSITION accessor's
+  min and max are its data's bounds.
+"""
+import base64
+import copy
+import json
+import os
+import shutil
+import struct
+import subprocess
+
+import numpy as np
+import pytest
+
+import gltf_corpus
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+VALIDATOR = os.path.join(HERE, "..", "gltf", "validate.js")
+LATTICE = {"op": "lattice", "name": "L", "basis": "bspline", "degree": 3,
+           "box": {"fit": "aabb", "padding": 0.05}, "cells": [6, 6, 6]}
+SCRIPTS = {
+    "unmoved": {"version": 1, "steps": [LATTICE]},
+    "moved": {"version": 1, "steps": [LATTICE, {"op": "move", "lattice": "L", "points": [
+        {"index": [2, 3, 3], "by": [0.5, 1.5, -0.8]}]}]},
+}
+CASES = [c.__name__ for c in gltf_corpus.CASES]
+
+
+@pytest.fixture(scope="module")
+def corpus(tmp_path_factory, bunny):
+    folder = tmp_path_factory.mktemp("corpus")
+    gltf_corpus.write_corpus(str(folder), bunny)
+    return folder
+
+
+def load(path):
+    """A glTF's JSON and its buffers' bytes (GLB BIN chunk, data URIs, files beside it)."""
+    raw = open(path, "rb").read()
+    bin_chunk = None
+    if raw[:4] == b"glTF":
+        n = struct.unpack_from("<I", raw, 12)[0]
+        doc = json.loads(raw[20:20 + n])
+        if len(raw) > 28 + n:
+            m = struct.unpack_from("<I", raw, 20 + n)[0]
+            bin_chunk = raw[28 + n:28 + n + m]
+    else:
+        doc = json.loads(raw)
+    buffers = []
+    for b in doc.get("buffers", []):
+        uri = b.get("uri")
+        if uri is None:
+            data = bin_chunk
+        elif uri.startswith("data:"):
+            data = base64.b64decode(uri.split(",", 1)[1])
+        else:
+            data = open(os.path.join(os.path.dirname(path), uri), "rb").read()
+        buffers.append(data[:b["byteLength"]])
+    return doc, buffers
+
+
+def vec3(doc, buffers, index):
+    """Accessor `index` (float VEC3) as an (n, 3) array, sparse values substituted."""
+    a = doc["accessors"][index]
+    out = np.zeros((a["count"], 3), dtype=np.float32)
+    if "bufferView" in a:
+        v = doc["bufferViews"][a["bufferView"]]
+        stride = v.get("byteStride", 12)
+        start = v.get("byteOffset", 0) + a.get("byteOffset", 0)
+        out[:] = np.ndarray((a["count"], 3), np.float32, buffers[v["buffer"]], start, (stride, 4))
+    if "sparse" in a:
+        s = a["sparse"]
+        iv, vv = doc["bufferViews"][s["indices"]["bufferView"]], doc["bufferViews"][s["values"]["bufferView"]]
+        types = {5121: np.uint8, 5123: np.uint16, 5125: np.uint32}
+        idx = np.frombuffer(buffers[iv["buffer"]], types[s["indices"]["componentType"]], s["count"],
+                            iv.get("byteOffset", 0) + s["indices"].get("byteOffset", 0))
+        val = np.frombuffer(buffers[vv["buffer"]], np.float32, 3 * s["count"],
+                            vv.get("byteOffset", 0) + s["values"].get("byteOffset", 0))
+        out[idx] = val.reshape(-1, 3)
+    return out
+
+
+def deformed_accessors(doc, meshes):
+    """The POSITION and NORMAL accessors of the first `meshes` meshes' primitives."""
+    return {p["attributes"][k] for m in doc.get("meshes", [])[:meshes] for p in m["primitives"]
+            for k in ("POSITION", "NORMAL") if k in p["attributes"]}
+
+
+def stripped(doc, source):
+    """`doc` without what a deformation may change, against its `source` document: the
+    deformed accessors' data, views and bounds, the buffers' URIs and lengths, what was
+    appended, and which copy of a mesh a split node draws (the copy must be its mesh
+    but for POSITION and NORMAL)."""
+    d = copy.deepcopy(doc)
+    counts = {k: len(source.get(k, [])) for k in ("accessors", "bufferViews", "meshes", "buffers")}
+    for node, original in zip(d.get("nodes", []), source.get("nodes", [])):
+        if node.get("mesh", -1) >= counts["meshes"]:
+            copy_of = copy.deepcopy(d["meshes"][node["mesh"]])
+            for p, q in zip(copy_of["primitives"], source["meshes"][original["mesh"]]["primitives"]):
+                for k in ("POSITION", "NORMAL"):
+                    if k in q["attributes"]:
+                        p["attributes"][k] = q["attributes"][k]
+            assert copy_of == source["meshes"][original["mesh"]]
+            node["mesh"] = original["mesh"]
+    for i in deformed_accessors(source, counts["meshes"]):
+        for k in ("min", "max", "bufferView", "byteOffset", "sparse"):
+            d["accessors"][i].pop(k, None)
+    for k in ("accessors", "bufferViews", "meshes"):
+        if k in d:
+            d[k] = d[k][:counts[k]]
+    for b in d.get("buffers", []):
+        b.pop("uri", None)
+        b.pop("byteLength", None)
+    return d
+
+
+def validator_errors(path):
+    done = subprocess.run(["node", VALIDATOR, str(path)], capture_output=True, text=True)
+    assert done.returncode == 0, "glTF-Validator (scripts/setup.sh installs it): " + done.stderr
+    report = json.loads(done.stdout)
+    return {(m["code"], m.get("pointer", "")) for m in report["issues"]["messages"] if m["severity"] == 0}
+
+
+def assimp_loads(path):
+    if not shutil.which("assimp"):
+        pytest.skip("assimp is not installed (scripts/setup.sh installs assimp-utils)")
+    return subprocess.run(["assimp", "info", str(path)], capture_output=True).returncode == 0
+
+
+@pytest.mark.parametrize("ext", [".gltf", ".glb"])
+@pytest.mark.parametrize("motion", sorted(SCRIPTS))
+@pytest.mark.parametrize("case", CASES)
+def test_written_back_with_nothing_lost(case, motion, ext, corpus, tmp_path, run_cli):
+    source = corpus / (case + ext)
+    script = tmp_path / "script.json"
+    script.write_text(json.dumps(SCRIPTS[motion]))
+    out = tmp_path / ("out" + ext)
+    done = run_cli("run", source, script, "-o", out)
+    assert done.returncode == 0, done.stderr
+    if case == "wrong_bounds":
+        assert "min and max are not its values' bounds" in done.stderr
+
+    src_doc, src_buf = load(source)
+    out_doc, out_buf = load(out)
+    assert stripped(out_doc, src_doc) == stripped(src_doc, src_doc)
+
+    for m in out_doc["meshes"]:
+        for p in m["primitives"]:
+            pos = p["attributes"]["POSITION"]
+            values = vec3(out_doc, out_buf, pos)
+            if motion == "unmoved" or pos >= len(src_doc["accessors"]):
+                continue
+            a = out_doc["accessors"][pos]
+            assert a["min"] == values.min(axis=0).astype(np.float64).tolist()
+            assert a["max"] == values.max(axis=0).astype(np.float64).tolist()
+    moved = [not np.array_equal(vec3(src_doc, src_buf, i), vec3(out_doc, out_buf, i))
+             for i in deformed_accessors(src_doc, len(src_doc["meshes"]))]
+    assert any(moved) == (motion == "moved")
+    if case == "instances" and motion == "moved":
+        assert len(out_doc["meshes"]) == 2  # the instances no longer agree: one was split off
+
+    assert validator_errors(out) <= validator_errors(source)
+    if assimp_loads(source):
+        assert assimp_loads(out)
