@@ -116,7 +116,16 @@ AccessorSpan accessor_span(tinygltf::Model& model, int index, int component_type
   AccessorSpan span;
   span.count = a.count;
   const std::size_t element = component_size(component_type) * components;
-  if (a.bufferView < 0) return span;  // all zero (sparse values may follow)
+  if (a.bufferView < 0) {  // all zero (sparse values may follow)
+    // Nothing in the file backs the zeros, so a count is held to the buffers' size: a
+    // 60-byte file must not ask for gigabytes.
+    std::size_t bytes = 0;
+    for (const tinygltf::Buffer& b : model.buffers) bytes += b.data.size();
+    if (a.count > bytes)
+      bad_accessor(index, what, std::to_string(a.count) + " elements without a bufferView are more than the file's " +
+                                    std::to_string(bytes) + " bytes of buffers can back");
+    return span;
+  }
   std::size_t length = 0;
   unsigned char* bytes = view_bytes(model, a.bufferView, length, index, what);
   const std::size_t given = model.bufferViews[a.bufferView].byteStride;

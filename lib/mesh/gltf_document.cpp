@@ -130,6 +130,17 @@ std::string glb_json_chunk(std::string_view bytes) {
   return std::string(bytes.substr(20, std::min(length, bytes.size() - 20)));
 }
 
+std::string gltf_json_version(const std::string& json) {
+  const Json doc = Json::parse(json, nullptr, false);
+  if (!doc.is_object()) return {};
+  const auto asset = doc.find("asset");
+  if (asset != doc.end() && asset->is_object() && asset->contains("version") && (*asset)["version"].is_string())
+    return (*asset)["version"].get<std::string>();
+  for (const char* key : {"meshes", "accessors", "nodes", "buffers"})
+    if (doc.contains(key) && doc[key].is_object()) return "1.0";
+  return {};
+}
+
 std::string patched_gltf_json(const GltfScene& scene, const tinygltf::Model& model, const std::vector<BufferUri>& uris,
                               int indent) {
   Json doc = Json::parse(scene.json, nullptr, false);

@@ -19,6 +19,10 @@ namespace ffd {
 /// The JSON chunk of a GLB whose header tinygltf has checked (empty if it has none).
 std::string glb_json_chunk(std::string_view bytes);
 
+/// The version a glTF JSON document declares (asset.version), "1.0" for a document
+/// without one whose top-level collections are dictionaries (glTF 1.0's), else empty.
+std::string gltf_json_version(const std::string& json);
+
 /// What a patched document says of buffer i's "uri".
 struct BufferUri {
   enum class Kind { Keep, Erase, Set } kind = Kind::Keep;  // Erase: a GLB's BIN chunk

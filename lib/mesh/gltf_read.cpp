@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "common/errors.h"
+#include "common/numbers.h"
 #include "mesh/build_mesh.h"
 #include "mesh/gltf_accessors.h"
 #include "mesh/gltf_document.h"
@@ -44,8 +45,21 @@ void refuse_required_extensions(const tinygltf::Model& model, const std::string&
   }
 }
 
+// glTF 1.0 (its binary container KHR_binary_glTF, or JSON whose asset says 1.x or whose
+// top-level collections are dictionaries) is refused by name.
+void refuse_gltf_1(std::string_view bytes, const std::string& path, bool binary, const std::string& version) {
+  const bool old_glb = binary && bytes.size() >= 8 && bytes.substr(0, 4) == "glTF" && bytes[4] == 1 &&
+                       bytes[5] == 0 && bytes[6] == 0 && bytes[7] == 0;
+  if (old_glb || (!version.empty() && version[0] == '1'))
+    throw InputError(At{path}, "glTF 1.0 is not supported; ffdtool reads glTF 2.0 (convert the file first, "
+                               "e.g. with gltf-pipeline or Blender)");
+  if (!version.empty() && version.rfind("2.", 0) != 0)
+    throw InputError(At{path}, "glTF " + version + " is not supported; ffdtool reads glTF 2.0");
+}
+
 tinygltf::Model parse_model(std::string_view bytes, const std::string& path, bool binary) {
   if (bytes.size() > 0xffffffffu) throw InputError(At{path}, "glTF files over 4 GiB are not supported");
+  refuse_gltf_1(bytes, path, binary, "");
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_image, nullptr);
   loader.SetStoreOriginalJSONForExtrasAndExtensions(false);
@@ -57,11 +71,13 @@ tinygltf::Model parse_model(std::string_view bytes, const std::string& path, boo
                                                        reinterpret_cast<const unsigned char*>(bytes.data()), size, base)
                          : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, base);
   if (!ok) {
+    refuse_gltf_1(bytes, path, binary, gltf_json_version(binary ? glb_json_chunk(bytes) : std::string(bytes)));
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
     for (char& c : err) c = c == '\n' ? ';' : c;
     throw InputError(At{path}, "not a valid glTF " + std::string(binary ? "binary (GLB)" : "file") + ": " +
                                    (err.empty() ? "unreadable" : err));
   }
+  refuse_gltf_1(bytes, path, binary, model.asset.version);
   refuse_required_extensions(model, path);
   return model;
 }
@@ -154,6 +170,14 @@ void check_bounds(const tinygltf::Accessor& a, const std::vector<Eigen::Vector3f
     }
 }
 
+// A position that is not finite cannot be deformed or bounded: refused by element.
+void refuse_non_finite(const std::vector<Eigen::Vector3f>& p, const std::string& what) {
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p[i].allFinite())
+      throw InputError(what + ": element " + std::to_string(i) + " is not finite (" + format_number(p[i].x()) + " " +
+                       format_number(p[i].y()) + " " + format_number(p[i].z()) + ")");
+}
+
 // Reads the vertices of (instance, POSITION, NORMAL) into the soup, in world space.
 RunTables add_run(tinygltf::Model& model, GltfScene& scene, PolygonSoup& soup, std::size_t instance,
                   const tinygltf::Primitive& prim, const std::string& what) {
@@ -176,12 +200,18 @@ RunTables add_run(tinygltf::Model& model, GltfScene& scene, PolygonSoup& soup, s
   const double det = w.topLeftCorner<3, 3>().determinant();
   const Eigen::Matrix3d normal_matrix = std::isfinite(det) && det != 0 ? Eigen::Matrix3d(w.topLeftCorner<3, 3>().inverse().transpose())
                                                                          : Eigen::Matrix3d::Identity();
+  refuse_non_finite(p, "accessor " + std::to_string(pos) + " (POSITION of " + what + ")");
   check_bounds(model.accessors[pos], p, scene, "accessor " + std::to_string(pos) + " (POSITION of " + what + ")");
   RunTables t;
   t.run = scene.runs.size();
   scene.runs.push_back({instance, pos, nrm, static_cast<std::uint32_t>(soup.positions.size()),
                         static_cast<std::uint32_t>(p.size())});
-  for (const Eigen::Vector3f& v : p) soup.positions.push_back((w * v.cast<double>().homogeneous()).head<3>());
+  for (const Eigen::Vector3f& v : p) {
+    soup.positions.push_back((w * v.cast<double>().homogeneous()).head<3>());
+    if (!soup.positions.back().allFinite())
+      throw InputError("node " + std::to_string(scene.instances[instance].node) + ": its transform takes " + what +
+                       "'s vertices to non-finite positions");
+  }
   if (nrm >= 0) {
     t.normal_base = static_cast<std::int64_t>(soup.normals.size());
     for (const Eigen::Vector3f& v : n) soup.normals.push_back((normal_matrix * v.cast<double>()).normalized());

@@ -23,6 +23,7 @@
 #include "mesh/ply_source.h"
 #include "mesh/ply_stl_io.h"
 #include "mesh/stl_io.h"
+#include "mesh/text_encoding.h"
 #include "mesh/vertex_colors.h"
 
 namespace ffd {
@@ -140,23 +141,31 @@ std::size_t stage_gltf_images(const std::filesystem::path& target, const Mesh& m
 
 Mesh read_mesh(const std::string& path, bool defer_normals) {
   const MeshFormat format = mesh_format(path);
+  const FileBytes bytes = read_bytes(path);
+  std::string_view text = bytes.view();
+  // A text format (and a PLY's header) must be ASCII or UTF-8; a binary STL's 80-byte
+  // header and a GLB are bytes.
+  if (format != MeshFormat::Glb && !(format == MeshFormat::Stl && stl_is_binary(text))) {
+    refuse_wide_text(text, path);
+    text = without_utf8_bom(text);
+  }
   PolygonSoup soup;
   switch (format) {
     case MeshFormat::Obj:
-      soup = read_obj(read_bytes(path).view(), path);
+      soup = read_obj(text, path);
       break;
     case MeshFormat::Off:
-      soup = read_off(read_bytes(path).view(), path);
+      soup = read_off(text, path);
       break;
     case MeshFormat::Ply:
-      soup = read_ply(read_bytes(path).view(), path);
+      soup = read_ply(text, path);
       break;
     case MeshFormat::Stl:
-      soup = read_stl(read_bytes(path).view(), path);
+      soup = read_stl(text, path);
       break;
     case MeshFormat::Gltf:
     case MeshFormat::Glb:
-      return read_gltf(read_bytes(path).view(), path, format == MeshFormat::Glb);
+      return read_gltf(text, path, format == MeshFormat::Glb);
   }
   // Nothing to deform, and nothing a step could write back: not a mesh.
   if (soup.positions.empty()) throw InputError(At{path}, "the file has no vertex");

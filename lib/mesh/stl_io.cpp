@@ -209,11 +209,14 @@ bool looks_binary(std::string_view bytes) {
 
 }  // namespace
 
+bool stl_is_binary(std::string_view bytes) {
+  return bytes.size() >= kHeaderBytes &&
+         kHeaderBytes + std::uint64_t(little_uint32(bytes.data() + 80)) * kTriangleBytes == bytes.size();
+}
+
 PolygonSoup read_stl(std::string_view bytes, const std::string& file) {
   if (bytes.empty()) throw InputError(At{file}, "the file is empty");
-  const bool fits_binary =
-      bytes.size() >= kHeaderBytes &&
-      kHeaderBytes + std::uint64_t(little_uint32(bytes.data() + 80)) * kTriangleBytes == bytes.size();
+  const bool fits_binary = stl_is_binary(bytes);
   const auto size_error = [&] {
     if (bytes.size() < kHeaderBytes)
       return InputError(At{file}, std::to_string(bytes.size()) +

@@ -21,4 +21,7 @@ namespace ffd {
 /// without a triangle.
 PolygonSoup read_stl(std::string_view bytes, const std::string& file);
 
+/// Whether `bytes` have exactly the size a binary STL's triangle count gives them.
+bool stl_is_binary(std::string_view bytes);
+
 }  // namespace ffd
