@@ -8,6 +8,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libcgal-dev libeigen3-dev libsuitesparse-dev libsleef-dev libnanoflann-dev
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libpng-dev
+  libdraco-dev libmeshoptimizer-dev
   libgtest-dev libgmock-dev libssl-dev
   libcgal-demo
   libxml2-utils

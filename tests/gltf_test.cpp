@@ -716,11 +716,13 @@ std::vector<BadGltf> bad_inputs() {
        edited_gltf("count.gltf", [](json& j) { j["accessors"][0]["count"] = 100000; }), {"count.gltf", "accessor 0", "run past"}},
       {"index out of range", edited_glb("index.glb", [](std::string& b) { set_first_nose_index(b, 60000); }),
        {"index.glb", "accessor 3", "past the primitive"}},
-      {"Draco required", edited_gltf("draco.gltf", [](json& j) {
+      {"Draco data that does not decode", edited_gltf("draco.gltf", [](json& j) {
          j["extensionsUsed"] = {"KHR_draco_mesh_compression"};
          j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+         j["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"] = {
+             {"bufferView", 0}, {"attributes", {{"POSITION", 0}}}};
        }),
-       {"draco.gltf", "KHR_draco_mesh_compression"}},
+       {"draco.gltf", "mesh 0 primitive 0 (KHR_draco_mesh_compression)", "does not decode"}},
       {"node cycle", edited_gltf("cycle.gltf", [](json& j) { j["nodes"][0]["children"] = {3}; }),
        {"cycle.gltf", "reached twice"}},
   };

@@ -1,5 +1,6 @@
 #include "mesh/gltf_accessors.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -65,7 +66,44 @@ std::uint32_t sparse_index(const unsigned char* p, int type, std::size_t i) {
   return v;
 }
 
-// Substitutes a sparse accessor's values into `out` (count elements of `n` floats).
+// Component i of an element at p as a float: a float as it is, an integer component
+// (KHR_mesh_quantization) as its value, or, `normalized`, mapped to [0, 1] or [-1, 1]
+// (glTF 2.0 section 3.11).
+float component_value(const unsigned char* p, int type, bool normalized, int i) {
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      const auto v = static_cast<std::int8_t>(p[i]);
+      return normalized ? std::max(v / 127.0f, -1.0f) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[i] / 255.0f : p[i];
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      std::int16_t v;
+      std::memcpy(&v, p + 2 * i, 2);
+      return normalized ? std::max(v / 32767.0f, -1.0f) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      std::uint16_t v;
+      std::memcpy(&v, p + 2 * i, 2);
+      return normalized ? v / 65535.0f : v;
+    }
+    default: {
+      float v;
+      std::memcpy(&v, p + 4 * i, 4);
+      return v;
+    }
+  }
+}
+
+// Element k of n components at p into out[0..n).
+void read_element(const unsigned char* p, int type, bool normalized, int n, float* out) {
+  if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+    std::memcpy(out, p, 4 * static_cast<std::size_t>(n));
+    return;
+  }
+  for (int i = 0; i < n; ++i) out[i] = component_value(p, type, normalized, i);
+}
+
+// Substitutes a sparse accessor's values into `out` (count elements of `n` values).
 void apply_sparse(tinygltf::Model& model, int index, int n, std::vector<float>& out, const std::string& what) {
   const tinygltf::Accessor& a = model.accessors[index];
   if (!a.sparse.isSparse) return;
@@ -80,22 +118,43 @@ void apply_sparse(tinygltf::Model& model, int index, int n, std::vector<float>& 
   const unsigned char* vp = view_bytes(model, a.sparse.values.bufferView, vlen, index, what);
   const auto ioff = static_cast<std::size_t>(std::max(a.sparse.indices.byteOffset, 0));
   const auto voff = static_cast<std::size_t>(std::max(a.sparse.values.byteOffset, 0));
-  const std::size_t vsize = 4 * static_cast<std::size_t>(n);
+  const std::size_t vsize = component_size(a.componentType) * static_cast<std::size_t>(n);
   if (ioff > ilen || count > (ilen - ioff) / isize || voff > vlen || count > (vlen - voff) / vsize)
     bad_accessor(index, what, "sparse indices or values run past their bufferView");
   for (std::size_t k = 0; k < count; ++k) {
     const std::uint32_t i = sparse_index(ip + ioff, itype, k);
     if (i >= a.count) bad_accessor(index, what, "sparse index " + std::to_string(i) + " is past the accessor's count");
-    std::memcpy(&out[std::size_t(i) * n], vp + voff + k * vsize, vsize);
+    read_element(vp + voff + k * vsize, a.componentType, a.normalized, n, &out[std::size_t(i) * n]);
   }
 }
 
-// A float accessor of `n` components as count · n floats, sparse values applied.
+// Whether `a` holds `n`-component floats, or the integers KHR_mesh_quantization allows in
+// their place (signed or unsigned bytes and shorts).
+bool float_like(const tinygltf::Accessor& a, int n) {
+  const int t = a.componentType;
+  return type_components(a.type) == n &&
+         (t == TINYGLTF_COMPONENT_TYPE_FLOAT || t == TINYGLTF_COMPONENT_TYPE_BYTE ||
+          t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || t == TINYGLTF_COMPONENT_TYPE_SHORT ||
+          t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+}
+
+bool exists(const tinygltf::Model& model, int index) {
+  return index >= 0 && static_cast<std::size_t>(index) < model.accessors.size();
+}
+
+// A float (or quantized) accessor of `n` components as count · n floats, sparse values
+// applied.
 std::vector<float> read_floats(tinygltf::Model& model, int index, int n, const std::string& what) {
-  const AccessorSpan span = accessor_span(model, index, TINYGLTF_COMPONENT_TYPE_FLOAT, n, what);
+  int type = TINYGLTF_COMPONENT_TYPE_FLOAT;  // accessor_span names any other
+  bool normalized = false;
+  if (exists(model, index) && float_like(model.accessors[index], n)) {
+    type = model.accessors[index].componentType;
+    normalized = model.accessors[index].normalized;
+  }
+  const AccessorSpan span = accessor_span(model, index, type, n, what);
   std::vector<float> out(span.count * n, 0.0f);
   if (span.data)
-    for (std::size_t i = 0; i < span.count; ++i) std::memcpy(&out[i * n], span.data + i * span.stride, 4 * n);
+    for (std::size_t i = 0; i < span.count; ++i) read_element(span.data + i * span.stride, type, normalized, n, &out[i * n]);
   apply_sparse(model, index, n, out, what);
   return out;
 }
@@ -107,12 +166,8 @@ AccessorSpan accessor_span(tinygltf::Model& model, int index, int component_type
   if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size())
     throw InputError("accessor " + std::to_string(index) + " (" + what + ") does not exist");
   const tinygltf::Accessor& a = model.accessors[index];
-  if (a.componentType != component_type || type_components(a.type) != components) {
-    const bool quantized = components == 3 && a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT;
-    bad_accessor(index, what, quantized ? "quantized values (KHR_mesh_quantization) are not supported; "
-                                          "ffdtool reads float positions and normals"
-                                        : "has the wrong component type or element type");
-  }
+  if (a.componentType != component_type || type_components(a.type) != components)
+    bad_accessor(index, what, "has the wrong component type or element type");
   AccessorSpan span;
   span.count = a.count;
   const std::size_t element = component_size(component_type) * components;
@@ -146,9 +201,7 @@ std::vector<Eigen::Vector3f> read_vec3(tinygltf::Model& model, int index, const 
 }
 
 std::vector<Eigen::Vector2f> read_vec2(tinygltf::Model& model, int index, const std::string& what) {
-  if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size() ||
-      model.accessors[index].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-    return {};
+  if (!exists(model, index) || !float_like(model.accessors[index], 2)) return {};
   const std::vector<float> f = read_floats(model, index, 2, what);
   std::vector<Eigen::Vector2f> out(f.size() / 2);
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = {f[2 * i], f[2 * i + 1]};
@@ -180,8 +233,7 @@ void write_vec3(tinygltf::Model& model, int index, const std::vector<Eigen::Vect
   for (std::size_t i = 0; i < span.count; ++i) std::memcpy(span.data + i * span.stride, values[i].data(), 12);
 }
 
-int append_accessor(tinygltf::Model& model, const void* data, std::size_t bytes, int component_type, int type,
-                    std::size_t count, int target) {
+int append_view(tinygltf::Model& model, const void* data, std::size_t bytes, int target) {
   if (model.buffers.empty()) model.buffers.emplace_back();
   std::vector<unsigned char>& buffer = model.buffers[0].data;
   buffer.resize((buffer.size() + 3) / 4 * 4, 0);
@@ -193,8 +245,13 @@ int append_accessor(tinygltf::Model& model, const void* data, std::size_t bytes,
   buffer.resize(buffer.size() + bytes);
   if (bytes) std::memcpy(buffer.data() + view.byteOffset, data, bytes);
   model.bufferViews.push_back(view);
+  return static_cast<int>(model.bufferViews.size() - 1);
+}
+
+int append_accessor(tinygltf::Model& model, const void* data, std::size_t bytes, int component_type, int type,
+                    std::size_t count, int target) {
   tinygltf::Accessor accessor;
-  accessor.bufferView = static_cast<int>(model.bufferViews.size() - 1);
+  accessor.bufferView = append_view(model, data, bytes, target);
   accessor.byteOffset = 0;
   accessor.componentType = component_type;
   accessor.count = count;

@@ -24,9 +24,12 @@ struct AccessorSpan {
 AccessorSpan accessor_span(tinygltf::Model& model, int index, int component_type, int components,
                            const std::string& what);
 
-/// A float VEC3 accessor's values, sparse substitution applied.
+/// A float VEC3 accessor's values, sparse substitution applied. Integer components
+/// (KHR_mesh_quantization: signed or unsigned bytes and shorts) are dequantized: their
+/// value, or, normalized, mapped to [0, 1] or [-1, 1].
 std::vector<Eigen::Vector3f> read_vec3(tinygltf::Model& model, int index, const std::string& what);
-/// A float VEC2 accessor's values (TEXCOORD_n), or empty for another component type.
+/// A float (or quantized) VEC2 accessor's values (TEXCOORD_n), or empty for another
+/// component type.
 std::vector<Eigen::Vector2f> read_vec2(tinygltf::Model& model, int index, const std::string& what);
 /// An index accessor's values (unsigned byte, short or int SCALAR), each < `vertices`.
 std::vector<std::uint32_t> read_indices(tinygltf::Model& model, int index, std::size_t vertices,
@@ -35,6 +38,9 @@ std::vector<std::uint32_t> read_indices(tinygltf::Model& model, int index, std::
 /// Overwrites a dense float VEC3 accessor's values in their buffer (strides kept).
 /// \pre the accessor is not sparse, has a bufferView and values.size() == count.
 void write_vec3(tinygltf::Model& model, int index, const std::vector<Eigen::Vector3f>& values);
+/// Appends `bytes` bytes at `data` to buffer 0 (4-byte aligned) as a new bufferView
+/// (`target`: TINYGLTF_TARGET_*, 0 for none); returns its index.
+int append_view(tinygltf::Model& model, const void* data, std::size_t bytes, int target);
 /// Appends `bytes` bytes at `data` to buffer 0 (4-byte aligned) as a new bufferView
 /// (`target`: TINYGLTF_TARGET_*) and a new accessor of `count` elements of `type`
 /// (TINYGLTF_TYPE_*) and `component_type`; returns the accessor's index.

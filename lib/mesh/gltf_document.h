@@ -19,6 +19,31 @@ namespace ffd {
 /// The JSON chunk of a GLB whose header tinygltf has checked (empty if it has none).
 std::string glb_json_chunk(std::string_view bytes);
 
+/// A buffer that is only a meshopt fallback (no URI, no data): its index and byte length.
+struct FallbackBuffer {
+  int index = -1;
+  std::size_t byte_length = 0;
+};
+
+/// The indices accessor (without a bufferView: its data is in the Draco stream) of a
+/// Draco-compressed primitive.
+struct DracoIndices {
+  int mesh = -1, primitive = -1, accessor = -1;
+};
+
+/// What the JSON tinygltf loads leaves out of the file, for the reader to put back.
+struct LoadFixes {
+  std::vector<FallbackBuffer> fallbacks;
+  std::vector<DracoIndices> draco_indices;
+};
+
+/// The file's bytes as tinygltf (which requires data for every buffer and a bufferView for
+/// every indices accessor) is to load them: each meshopt fallback buffer (no URI;
+/// EXT_ or KHR_meshopt_compression "fallback": true) gets a one-byte data URI, and each
+/// Draco primitive's view-less indices are taken out, both recorded in `fixes`. Empty
+/// when the file needs no change.
+std::string loadable_gltf(std::string_view bytes, bool binary, LoadFixes& fixes);
+
 /// The version a glTF JSON document declares (asset.version), "1.0" for a document
 /// without one whose top-level collections are dictionaries (glTF 1.0's), else empty.
 std::string gltf_json_version(const std::string& json);

@@ -4,9 +4,12 @@
 // root node when the file has no scene), in world space (node transforms applied down
 // the hierarchy), becomes vertices and elements of one Mesh: triangles
 // (lists, strips and fans) as polygons, lines and points as OBJ-style line and point
-// elements. POSITION and NORMAL must be float (no quantization, no Draco or meshopt
-// compression: refused by name); sparse accessors are read. TEXCOORD_0 becomes the
-// corners' UVs, NORMAL their file normals, so an OBJ written from a glTF keeps both.
+// elements. Sparse accessors are read; KHR_mesh_quantization's integer attributes are
+// dequantized; Draco and meshopt compression are decoded (gltf_decode.h), and a glTF
+// output holds that data uncompressed, without the extension (a warning says so).
+// glTF 1.0, UTF-16/32 text and non-finite positions are refused by name. TEXCOORD_0
+// becomes the corners' UVs, NORMAL their file normals, so an OBJ written from a glTF
+// keeps both.
 //
 // Instancing: a primitive drawn by two nodes is two sets of vertices, one per node, each
 // deformed where it is in world space; a POSITION accessor that two primitives of one

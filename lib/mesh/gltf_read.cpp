@@ -13,6 +13,7 @@
 #include "common/numbers.h"
 #include "mesh/build_mesh.h"
 #include "mesh/gltf_accessors.h"
+#include "mesh/gltf_decode.h"
 #include "mesh/gltf_document.h"
 #include "mesh/gltf_io.h"
 #include "mesh/gltf_scene.h"
@@ -32,19 +33,6 @@ bool keep_image(tinygltf::Image* image, const int, std::string*, std::string*, i
   return true;
 }
 
-// Extensions that change what accessors hold; a file requiring them cannot be read.
-void refuse_required_extensions(const tinygltf::Model& model, const std::string& path) {
-  for (const std::string& ext : model.extensionsRequired) {
-    if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
-        ext == "KHR_meshopt_compression")
-      throw InputError(At{path}, "compressed meshes (" + ext + ") are not supported; decompress the file first "
-                                 "(e.g. gltf-transform copy)");
-    if (ext == "KHR_mesh_quantization")
-      throw InputError(At{path}, "quantized meshes (KHR_mesh_quantization) are not supported; "
-                                 "ffdtool reads float positions and normals");
-  }
-}
-
 // glTF 1.0 (its binary container KHR_binary_glTF, or JSON whose asset says 1.x or whose
 // top-level collections are dictionaries) is refused by name.
 void refuse_gltf_1(std::string_view bytes, const std::string& path, bool binary, const std::string& version) {
@@ -57,19 +45,22 @@ void refuse_gltf_1(std::string_view bytes, const std::string& path, bool binary,
     throw InputError(At{path}, "glTF " + version + " is not supported; ffdtool reads glTF 2.0");
 }
 
-tinygltf::Model parse_model(std::string_view bytes, const std::string& path, bool binary) {
+// tinygltf's model of the file, with meshopt fallback buffers loadable (gltf_decode.h).
+tinygltf::Model parse_model(std::string_view bytes, const std::string& path, bool binary, LoadFixes& fixes) {
   if (bytes.size() > 0xffffffffu) throw InputError(At{path}, "glTF files over 4 GiB are not supported");
   refuse_gltf_1(bytes, path, binary, "");
+  const std::string loadable = loadable_gltf(bytes, binary, fixes);
+  const std::string_view load = loadable.empty() ? bytes : std::string_view(loadable);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_image, nullptr);
   loader.SetStoreOriginalJSONForExtrasAndExtensions(false);
   tinygltf::Model model;
   std::string err, warn;
   const std::string base = std::filesystem::absolute(path).parent_path().string();
-  const auto size = static_cast<unsigned int>(bytes.size());
+  const auto size = static_cast<unsigned int>(load.size());
   const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
-                                                       reinterpret_cast<const unsigned char*>(bytes.data()), size, base)
-                         : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, base);
+                                                       reinterpret_cast<const unsigned char*>(load.data()), size, base)
+                         : loader.LoadASCIIFromString(&model, &err, &warn, load.data(), size, base);
   if (!ok) {
     refuse_gltf_1(bytes, path, binary, gltf_json_version(binary ? glb_json_chunk(bytes) : std::string(bytes)));
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
@@ -78,8 +69,21 @@ tinygltf::Model parse_model(std::string_view bytes, const std::string& path, boo
                                    (err.empty() ? "unreadable" : err));
   }
   refuse_gltf_1(bytes, path, binary, model.asset.version);
-  refuse_required_extensions(model, path);
   return model;
+}
+
+// Decodes Draco and meshopt data into plain accessors (gltf_decode.h) and says so.
+void decode_compression(GltfScene& scene, const LoadFixes& fixes) {
+  scene.decoded_extensions = decode_meshopt(scene.model, fixes.fallbacks);
+  scene.decoded_accessors = decode_draco(scene.model, fixes.draco_indices);
+  if (!scene.decoded_accessors.empty()) scene.decoded_extensions.push_back("KHR_draco_mesh_compression");
+  for (const std::string& name : scene.decoded_extensions)
+    scene.warnings.push_back(name + " is decoded on read; a glTF output holds the data uncompressed and no longer "
+                                    "declares it (ffdtool does not re-encode)");
+  const auto& used = scene.model.extensionsUsed;
+  if (std::find(used.begin(), used.end(), "KHR_mesh_quantization") != used.end())
+    scene.warnings.push_back("KHR_mesh_quantization: quantized attributes are read as float; a glTF output writes "
+                             "the positions and normals a deformation changes as float, the rest as they were");
 }
 
 // A node's local matrix: `matrix` when given, else T · R · S.
@@ -158,7 +162,10 @@ struct RunTables {
 // every accessor it rewrites.
 void check_bounds(const tinygltf::Accessor& a, const std::vector<Eigen::Vector3f>& p, GltfScene& scene,
                   const std::string& what) {
-  if (p.empty() || a.minValues.size() != 3 || a.maxValues.size() != 3) return;
+  // Quantized bounds are in the integers' units; only float bounds compare with the data.
+  if (p.empty() || a.minValues.size() != 3 || a.maxValues.size() != 3 ||
+      a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+    return;
   Eigen::Vector3f lo = p[0], hi = p[0];
   for (const Eigen::Vector3f& v : p) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
   for (int k = 0; k < 3; ++k)
@@ -355,11 +362,13 @@ void record_buffers(const tinygltf::Model& model, GltfScene& scene, const std::s
 
 Mesh read_gltf(std::string_view bytes, const std::string& path, bool binary) {
   auto scene = std::make_shared<GltfScene>();
-  scene->model = parse_model(bytes, path, binary);
+  LoadFixes fixes;
+  scene->model = parse_model(bytes, path, binary, fixes);
   scene->binary = binary;
   scene->json = binary ? glb_json_chunk(bytes) : std::string(bytes);
   PolygonSoup soup;
   try {
+    decode_compression(*scene, fixes);
     scene->instances = scene_instances(scene->model, path);
     read_instances(scene->model, *scene, soup);
   } catch (InputError& e) {

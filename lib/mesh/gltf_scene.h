@@ -46,7 +46,13 @@ struct GltfScene {
   /// Buffer i was a data URI in the source (a .gltf write embeds it again).
   std::vector<bool> buffer_embedded;
   std::vector<std::string> notes;
-  /// What the file holds that is not as the spec says but was read anyway.
+  /// The extensions the reader decoded (Draco, meshopt): a write removes them, its data
+  /// being plain.
+  std::vector<std::string> decoded_extensions;
+  /// The accessors given data by decoding Draco (their bounds were the encoder's).
+  std::vector<int> decoded_accessors;
+  /// What the file holds that is not as the spec says but was read anyway, and what a
+  /// write will not give back as it was (decoded compression).
   std::vector<std::string> warnings;
 };
 

@@ -23,6 +23,7 @@ namespace {
 // reader put it keeps the file's float bits exactly.
 struct LocalRun {
   std::vector<Eigen::Vector3f> positions, normals;
+  bool positions_changed = false, normals_changed = false;
 };
 
 LocalRun local_run(const Mesh& mesh, const GltfScene& scene, const GltfRun& run, const VertexFileNormals& vn) {
@@ -40,27 +41,34 @@ LocalRun local_run(const Mesh& mesh, const GltfScene& scene, const GltfRun& run,
   for (std::uint32_t i = 0; i < run.count; ++i) {
     const Eigen::Vector3d p = mesh.positions().col(run.first + i);
     const Eigen::Vector3d read = (w * out.positions[i].cast<double>().homogeneous()).head<3>();
-    if (p != read) out.positions[i] = (inv * p.homogeneous()).head<3>().cast<float>();
+    if (p == read) continue;
+    out.positions[i] = (inv * p.homogeneous()).head<3>().cast<float>();
+    out.positions_changed = true;
   }
   if (run.normal < 0) return out;
   for (std::uint32_t i = 0; i < run.count; ++i) {
     const std::uint32_t v = run.first + i;
-    if (vn.has[v] && vn.moved[v]) out.normals[i] = (wt * vn.value[v]).normalized().cast<float>();
+    if (!vn.has[v] || !vn.moved[v]) continue;
+    out.normals[i] = (wt * vn.value[v]).normalized().cast<float>();
+    out.normals_changed = true;
   }
   return out;
 }
 
-// Puts `values` into accessor `index`: in place when it is dense, else as new data the
-// accessor then points at (a sparse accessor becomes dense).
+// Puts `values` into accessor `index`: in place when it is dense float, else as new float
+// data the accessor then points at (a sparse accessor becomes dense, a quantized one
+// float: KHR_mesh_quantization's integers cannot hold a deformation's new range).
 void store_vec3(tinygltf::Model& model, int index, const std::vector<Eigen::Vector3f>& values, bool bounds) {
   tinygltf::Accessor& a = model.accessors[index];
-  if (a.bufferView >= 0 && !a.sparse.isSparse) {
+  if (a.bufferView >= 0 && !a.sparse.isSparse && a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
     write_vec3(model, index, values);
   } else {
     const int fresh = append_vec3(model, values);
     tinygltf::Accessor moved = model.accessors[fresh];
     model.accessors.pop_back();
     moved.name = model.accessors[index].name;
+    moved.extensions = model.accessors[index].extensions;
+    moved.extras = model.accessors[index].extras;
     model.accessors[index] = moved;
   }
   if (bounds) set_bounds(model.accessors[index], values);
@@ -93,11 +101,15 @@ tinygltf::Model deformed_model(const Mesh& mesh, const GltfScene& scene, const N
     const std::size_t instance = scene.runs[r].instance;
     std::vector<std::pair<int, std::vector<Eigen::Vector3f>>> values;  // (accessor, data)
     std::vector<int> positions;  // the accessors that are POSITION (min and max required)
+    std::vector<int> unchanged;  // the accessors whose values are the file's
     for (; r < scene.runs.size() && scene.runs[r].instance == instance; ++r) {
       LocalRun local = local_run(mesh, scene, scene.runs[r], vn);
       values.emplace_back(scene.runs[r].position, std::move(local.positions));
       positions.push_back(scene.runs[r].position);
-      if (scene.runs[r].normal >= 0) values.emplace_back(scene.runs[r].normal, std::move(local.normals));
+      if (!local.positions_changed) unchanged.push_back(scene.runs[r].position);
+      if (scene.runs[r].normal < 0) continue;
+      values.emplace_back(scene.runs[r].normal, std::move(local.normals));
+      if (!local.normals_changed) unchanged.push_back(scene.runs[r].normal);
     }
     bool agree = true;
     for (const auto& [acc, data] : values) {
@@ -107,6 +119,16 @@ tinygltf::Model deformed_model(const Mesh& mesh, const GltfScene& scene, const N
     if (agree) {
       for (auto& [acc, data] : values) {
         if (written.count(acc)) continue;
+        // What the deformation left as it was stays as the file has it: its data, its
+        // layout (sparse, quantized) and its bounds.
+        // Decoded data is written plain whatever moved, with bounds of its own.
+        const bool keep = std::find(unchanged.begin(), unchanged.end(), acc) != unchanged.end() &&
+                          std::find(scene.decoded_accessors.begin(), scene.decoded_accessors.end(), acc) ==
+                              scene.decoded_accessors.end();
+        if (keep) {
+          written.emplace(acc, std::move(data));
+          continue;
+        }
         const bool bounds = std::find(positions.begin(), positions.end(), acc) != positions.end() ||
                             model.accessors[acc].minValues.size() == 3;
         store_vec3(model, acc, data, bounds);
@@ -188,7 +210,8 @@ namespace {
 // How each buffer of the deformed model goes out (gltf_document.h). A GLB's buffer 0 is
 // its BIN chunk. A buffer that was a data URI and is unchanged keeps its URI as read;
 // with companions, a .gltf's other buffers go to files named after `stem`; the rest are
-// embedded as data URIs.
+// embedded as data URIs. (Decoding may have written into a data-URI buffer: then none is
+// kept.)
 std::vector<BufferUri> buffer_uris(const GltfScene& scene, const tinygltf::Model& model, bool binary,
                                    const std::string& stem, std::vector<CompanionFile>* companions) {
   std::vector<BufferUri> uris(model.buffers.size());
@@ -198,7 +221,7 @@ std::vector<BufferUri> buffer_uris(const GltfScene& scene, const tinygltf::Model
     const bool was_embedded = i < scene.buffer_embedded.size() && scene.buffer_embedded[i];
     if (binary && i == 0) {
       uris[i].kind = BufferUri::Kind::Erase;
-    } else if (was_embedded && data == scene.model.buffers[i].data) {
+    } else if (was_embedded && scene.decoded_extensions.empty() && data == scene.model.buffers[i].data) {
       uris[i].kind = BufferUri::Kind::Keep;
     } else if (!binary && companions && !was_embedded) {
       const std::string name = stem + (files++ == 0 ? "" : "_" + std::to_string(files - 1)) + ".bin";
