@@ -3,14 +3,16 @@
 # SECONDS (default 60) from the seed corpus tests/fuzz/corpus/<target>/. New inputs go to
 # build-fuzz/corpus/<target>/, findings to build-fuzz/findings/<target>/; copy a finding,
 # once fixed, to tests/fuzz/regressions/<target>/ so that ctest replays it.
-# Usage: scripts/fuzz.sh [SECONDS] [TARGET...]   (targets: obj off ply stl gltf script run)
-# run: a script run on a small sphere by the runner (tests/fuzz/run_input.h).
+# Usage: scripts/fuzz.sh [SECONDS] [TARGET...]
+#   (targets: obj off ply stl gltf gltf_draco gltf_meshopt script run)
+# run: a script run on a small sphere by the runner (tests/fuzz/run_input.h);
+# gltf_draco, gltf_meshopt: the compressed stream of a small glTF (tests/fuzz/compressed_input.h).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(obj off ply stl gltf script run)
+[ ${#targets[@]} -gt 0 ] || targets=(obj off ply stl gltf gltf_draco gltf_meshopt script run)
 scripts/setup.sh
 for p in clang libclang-rt-dev libomp-dev; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "fuzz/compressed_input.h"
 #include "fuzz/gltf_input.h"
 #include "fuzz/reader_paths.h"
 #include "fuzz/run_input.h"
@@ -56,6 +57,8 @@ TEST(FuzzCorpus, EveryInputIsReadOrRefusedWithAnInputError) {
       {"off", [](const std::string& bytes) { fuzz::check_off_paths_agree(bytes), mesh_reader(read_off)(bytes); }},
       {"ply", mesh_reader(read_ply)}, {"stl", mesh_reader(read_stl)},
       {"gltf", [](const std::string& bytes) { fuzz::check_gltf_round_trip(bytes); }},
+      {"gltf_draco", [](const std::string& bytes) { fuzz::check_gltf_round_trip(fuzz::draco_glb(bytes)); }},
+      {"gltf_meshopt", [](const std::string& bytes) { fuzz::check_gltf_round_trip(fuzz::meshopt_glb(bytes)); }},
       {"script", [](const std::string& text) { parse_script(text, "fuzz.json"); }}};
   std::size_t inputs = 0;
   for (const auto& [name, read] : targets)

@@ -127,6 +127,9 @@ void bench_remesh(Context& ctx);
 void bench_bcm(Context& ctx);
 void bench_cholesky(Context& ctx);
 void bench_io(Context& ctx);
+/// The io suite's glTF rows (bench_gltf_io.cpp): `mesh` as GLB in each coding, read and
+/// written, against plain glTF.
+nlohmann::ordered_json gltf_coding_rows(const Mesh& mesh, const TempFolder& dir, int repeats);
 void bench_pictures(Context& ctx);
 void bench_multires(Context& ctx);
 void bench_seam(Context& ctx);

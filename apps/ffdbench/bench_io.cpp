@@ -8,7 +8,9 @@
 //   of the same files;
 // - blender_job: the same job in Blender (blender_peer.py `job`), side by side;
 // - kernel: BSplineLattice::apply (positions + normals, one thread) against Blender's
-//   Lattice modifier (blender_peer.py `kernel`).
+//   Lattice modifier (blender_peer.py `kernel`);
+// - gltf: the largest grid as GLB, plain, Draco, meshopt and quantized, read and written,
+//   against plain (bench_gltf_io.cpp).
 // Without Blender the Blender rows say how to install it and the suite still succeeds.
 #include <fcntl.h>
 #include <omp.h>
@@ -401,7 +403,9 @@ void bench_io(Context& ctx) {
   }
   std::fprintf(stderr, "ffdbench: io: kernel\n");
   const json kernel = kernel_row(ctx, mesh, grid_file(dir, formats().front(), mesh.num_vertices()), blender, dir);
-  ctx.out["io"] = {{"files", files}, {"ffdtool_run", runs}, {"blender_job", jobs}, {"kernel", json::array({kernel})}};
+  const json gltf = gltf_coding_rows(mesh, dir, ctx.repeats);
+  ctx.out["io"] = {{"files", files},      {"ffdtool_run", runs}, {"blender_job", jobs},
+                   {"kernel", json::array({kernel})}, {"gltf", gltf}};
 }
 
 }  // namespace ffd::bench
