@@ -13,19 +13,14 @@ import meshio
 import numpy as np
 import pytest
 
+import gltf_corpus
+
 FORMATS = ["binary_little_endian", "binary_big_endian", "ascii"]
 
 
 def bunny_arrays(path):
-    points, faces = [], []
-    with open(path) as f:
-        for line in f:
-            t = line.split()
-            if t and t[0] == "v":
-                points.append([float(x) for x in t[1:4]])
-            elif t and t[0] == "f":
-                faces.append([int(c.split("/")[0]) - 1 for c in t[1:]])
-    return np.array(points, dtype=np.float32), np.array(faces, dtype=np.int32)
+    points, faces = gltf_corpus.bunny(path)
+    return points, faces.astype(np.int32)
 
 
 def write_ply(path, fmt, points, faces, vertex_props, face_props):
