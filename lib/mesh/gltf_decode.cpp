@@ -190,8 +190,14 @@ void decode_meshopt_view(tinygltf::Model& model, std::size_t index, const tinygl
       view.byteOffset > dst.size() || view.byteLength > dst.size() - view.byteOffset)
     throw InputError(what + ": count " + std::to_string(count) + " × byteStride " + std::to_string(stride) +
                      " does not fill the view's " + std::to_string(view.byteLength) + " bytes in its buffer");
-  const std::string mode = ext.Has("mode") ? ext.Get("mode").Get<std::string>() : "";
-  const std::string filter = ext.Has("filter") ? ext.Get("filter").Get<std::string>() : "NONE";
+  const std::string mode = ext.Has("mode") && ext.Get("mode").IsString() ? ext.Get("mode").Get<std::string>() : "";
+  // meshoptimizer asserts these rather than failing: the spec's limits, checked first.
+  if (mode == "ATTRIBUTES" && (stride % 4 != 0 || stride > 256))
+    throw InputError(what + ": ATTRIBUTES need a byteStride divisible by 4 and at most 256, not " + std::to_string(stride));
+  if (mode == "TRIANGLES" && count % 3 != 0)
+    throw InputError(what + ": TRIANGLES need a count divisible by 3, not " + std::to_string(count));
+  const std::string filter =
+      ext.Has("filter") && ext.Get("filter").IsString() ? ext.Get("filter").Get<std::string>() : "NONE";
   std::vector<unsigned char> compressed(src.begin() + static_cast<std::ptrdiff_t>(offset),
                                         src.begin() + static_cast<std::ptrdiff_t>(offset + length));
   unsigned char* out = dst.data() + view.byteOffset;

@@ -17,7 +17,7 @@
 #include <string>
 #include <string_view>
 
-#include "fuzz/gltf_input.h"
+#include "gltf_input.h"
 
 namespace ffd::fuzz {
 
