@@ -18,6 +18,9 @@ struct AccessorSpan {
   std::size_t count = 0;
 };
 
+/// The bytes of one component of TINYGLTF_COMPONENT_TYPE_* `type` (0 for an unknown one).
+std::size_t component_size(int type);
+
 /// The checked span of accessor `index` holding `components` values of `component_type`
 /// each. `what` names it in errors ("POSITION of mesh 0 primitive 1").
 /// \throw InputError ("accessor 3 (what): ...") for a wrong type or an out-of-range view.

@@ -17,16 +17,6 @@ namespace {
 
 const char* const kDraco = "KHR_draco_mesh_compression";
 
-std::size_t component_bytes(int type) {
-  switch (type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
-    default: return 4;
-  }
-}
-
 // The checked bytes of bufferView `view` (what names it in errors).
 std::pair<const unsigned char*, std::size_t> view_range(const tinygltf::Model& model, int view, const std::string& what) {
   if (view < 0 || static_cast<std::size_t>(view) >= model.bufferViews.size())
@@ -104,7 +94,8 @@ void place(tinygltf::Model& model, int index, const std::vector<unsigned char>& 
 
 // The triangle corners of a decoded mesh as accessor `a`'s index type.
 std::vector<unsigned char> index_bytes(const draco::Mesh& mesh, const tinygltf::Accessor& a) {
-  const std::size_t size = component_bytes(a.componentType);
+  // An index type that is not an integer one is refused by the reader afterwards.
+  const std::size_t size = component_size(a.componentType) ? component_size(a.componentType) : 4;
   std::vector<unsigned char> out(static_cast<std::size_t>(mesh.num_faces()) * 3 * size);
   std::size_t at = 0;
   for (draco::FaceIndex f(0); f < mesh.num_faces(); ++f)
