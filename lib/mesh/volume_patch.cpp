@@ -1,0 +1,93 @@
+#include "mesh/volume_patch.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#include "common/numbers.h"
+
+namespace ffd {
+
+TextPoints::TextPoints(SharedBytes bytes, std::vector<std::uint64_t> spans, int dimension, Eigen::Matrix3Xd as_read)
+    : bytes_(std::move(bytes)), spans_(std::move(spans)), dimension_(dimension), as_read_(std::move(as_read)) {}
+
+void TextPoints::write(std::ostream& os, const Eigen::Matrix3Xd& positions) const {
+  const std::string& text = *bytes_;
+  std::string chunk;
+  std::uint64_t kept = 0;  // text[kept, ...) is not yet written
+  auto flush = [&] {
+    os.write(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    chunk.clear();
+  };
+  for (Eigen::Index i = 0; i < positions.cols(); ++i) {
+    const Eigen::Vector3d p = positions.col(i);
+    if (p == as_read_.col(i)) continue;
+    const std::uint64_t begin = spans_[2 * i], end = spans_[2 * i + 1];
+    chunk.append(text, kept, begin - kept);
+    for (int k = 0; k < dimension_; ++k) {
+      if (k) chunk += ' ';
+      append_number(chunk, p[k]);
+    }
+    kept = end;
+    if (chunk.size() > (1u << 20)) flush();
+  }
+  chunk.append(text, kept, std::string::npos);
+  flush();
+}
+
+namespace {
+
+constexpr bool kNativeBigEndian = __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__;
+
+template <class T>
+T load(const char* at, bool big_endian) {
+  T value;
+  std::memcpy(&value, at, sizeof value);
+  if (big_endian != kNativeBigEndian) {
+    char* b = reinterpret_cast<char*>(&value);
+    std::reverse(b, b + sizeof value);
+  }
+  return value;
+}
+
+template <class T>
+void store(char* at, T value, bool big_endian) {
+  char* b = reinterpret_cast<char*>(&value);
+  if (big_endian != kNativeBigEndian) std::reverse(b, b + sizeof value);
+  std::memcpy(at, b, sizeof value);
+}
+
+}  // namespace
+
+double read_binary_scalar(const char* at, BinaryScalar scalar) {
+  return scalar.is_double ? load<double>(at, scalar.big_endian) : load<float>(at, scalar.big_endian);
+}
+
+void write_binary_scalar(char* at, double x, BinaryScalar scalar) {
+  if (scalar.is_double)
+    store<double>(at, x, scalar.big_endian);
+  else
+    store<float>(at, static_cast<float>(x), scalar.big_endian);
+}
+
+BinaryPoints::BinaryPoints(SharedBytes bytes, std::vector<BinaryBlock> blocks, BinaryScalar scalar, int dimension)
+    : bytes_(std::move(bytes)), blocks_(std::move(blocks)), scalar_(scalar), dimension_(dimension) {}
+
+void BinaryPoints::write(std::ostream& os, const Eigen::Matrix3Xd& positions) const {
+  std::string out = *bytes_;  // one copy, patched where nodes moved
+  const std::size_t size = scalar_.is_double ? 8 : 4;
+  for (const BinaryBlock& block : blocks_)
+    for (std::uint64_t j = 0; j < block.count; ++j) {
+      const Eigen::Vector3d p = positions.col(static_cast<Eigen::Index>(block.first + j));
+      char* at = out.data() + block.offset + j * block.stride;
+      Eigen::Vector3d stored(0, 0, 0);
+      for (int k = 0; k < dimension_; ++k) stored[k] = read_binary_scalar(at + k * size, scalar_);
+      Eigen::Vector3d compared = p;
+      if (dimension_ == 2) compared.z() = 0;
+      if (unmoved(compared, stored, !scalar_.is_double)) continue;
+      for (int k = 0; k < dimension_; ++k) write_binary_scalar(at + k * size, p[k], scalar_);
+    }
+  os.write(out.data(), static_cast<std::streamsize>(out.size()));
+}
+
+}  // namespace ffd

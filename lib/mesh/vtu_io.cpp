@@ -1,0 +1,863 @@
+// The VTK XML UnstructuredGrid reader (read_vtu) and its VolumeFile for encoded points.
+//
+// The file is split before any XML parser sees it: raw appended data (after the '_' of
+// <AppendedData>) is not XML. The part before it, closed by "</AppendedData></VTKFile>",
+// is parsed in place by pugixml with no encoding conversion, so every text and attribute
+// value pugixml returns points at the same offset as in the file: the Points text, the
+// base64 runs and the appended offset="..." values are located in the file's bytes.
+// (pugixml over expat: a DOM whose values are offsets into our own buffer, which
+// expat's callbacks would make us track by hand.)
+#include <pugixml.hpp>
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <ostream>
+
+#include "common/errors.h"
+#include "common/numbers.h"
+#include "mesh/volume_patch.h"
+#include "mesh/vtk_volume_io.h"
+
+namespace ffd {
+namespace {
+
+constexpr std::size_t kNone = std::string_view::npos;
+
+enum class Scalar : std::uint8_t { Int8, UInt8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Float32, Float64 };
+
+struct ScalarName {
+  std::string_view name;
+  Scalar type;
+  std::size_t size;
+};
+constexpr ScalarName kScalars[] = {
+    {"Int8", Scalar::Int8, 1},     {"UInt8", Scalar::UInt8, 1},   {"Int16", Scalar::Int16, 2},
+    {"UInt16", Scalar::UInt16, 2}, {"Int32", Scalar::Int32, 4},   {"UInt32", Scalar::UInt32, 4},
+    {"Int64", Scalar::Int64, 8},   {"UInt64", Scalar::UInt64, 8}, {"Float32", Scalar::Float32, 4},
+    {"Float64", Scalar::Float64, 8}};
+
+std::size_t scalar_size(Scalar t) { return kScalars[static_cast<int>(t)].size; }
+std::string_view scalar_name(Scalar t) { return kScalars[static_cast<int>(t)].name; }
+bool is_float(Scalar t) { return t == Scalar::Float32 || t == Scalar::Float64; }
+
+template <class T>
+T load(const char* at, bool swap) {
+  T value;
+  std::memcpy(&value, at, sizeof value);
+  if (swap) {
+    char* b = reinterpret_cast<char*>(&value);
+    std::reverse(b, b + sizeof value);
+  }
+  return value;
+}
+
+template <class T>
+void store(char* at, T value, bool swap) {
+  char* b = reinterpret_cast<char*>(&value);
+  if (swap) std::reverse(b, b + sizeof value);
+  std::memcpy(at, b, sizeof value);
+}
+
+// An integer of type t at `at`; a UInt64 above int64's range reads as its maximum, which
+// every range check refuses.
+std::int64_t load_integer(const char* at, Scalar t, bool swap) {
+  switch (t) {
+    case Scalar::Int8: return load<std::int8_t>(at, false);
+    case Scalar::UInt8: return load<std::uint8_t>(at, false);
+    case Scalar::Int16: return load<std::int16_t>(at, swap);
+    case Scalar::UInt16: return load<std::uint16_t>(at, swap);
+    case Scalar::Int32: return load<std::int32_t>(at, swap);
+    case Scalar::UInt32: return load<std::uint32_t>(at, swap);
+    case Scalar::Int64: return load<std::int64_t>(at, swap);
+    default: {
+      const std::uint64_t v = load<std::uint64_t>(at, swap);
+      return v > static_cast<std::uint64_t>(INT64_MAX) ? INT64_MAX : static_cast<std::int64_t>(v);
+    }
+  }
+}
+
+// ---- base64 -------------------------------------------------------------------------
+
+constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+// Each byte's base64 value: 0..63, 64 for '=', -1 for any other.
+const std::array<std::int8_t, 256> kBase64Values = [] {
+  std::array<std::int8_t, 256> v{};
+  v.fill(-1);
+  for (int i = 0; i < 64; ++i) v[static_cast<std::uint8_t>(kBase64[i])] = static_cast<std::int8_t>(i);
+  v['='] = 64;
+  return v;
+}();
+
+int base64_value(char c) { return kBase64Values[static_cast<std::uint8_t>(c)]; }
+
+// Decodes base64 text made of one or more padded runs (VTK encodes an array's header
+// and its data apart), whitespace allowed between characters. Returns the offset in
+// `text` of the first character that is not valid there, or kNone.
+std::size_t decode_base64(std::string_view text, std::string& out) {
+  out.resize(text.size() / 4 * 3);
+  std::size_t size = 0;
+  int group[4];
+  std::size_t at[4];
+  int n = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (is_space(text[i])) continue;
+    const int v = base64_value(text[i]);
+    if (v < 0 || (v == 64 && n < 2) || (n == 3 && group[2] == 64 && v != 64)) return i;
+    at[n] = i;
+    group[n++] = v;
+    if (n < 4) continue;
+    const int pads = (group[2] == 64) + (group[3] == 64);
+    const std::uint32_t bits = (group[0] << 18) | (group[1] << 12) | ((group[2] & 63) << 6) | (group[3] & 63);
+    out[size++] = static_cast<char>(bits >> 16);
+    if (pads < 2) out[size++] = static_cast<char>((bits >> 8) & 255);
+    if (pads < 1) out[size++] = static_cast<char>(bits & 255);
+    n = 0;
+  }
+  out.resize(size);
+  return n == 0 ? kNone : at[0];
+}
+
+void encode_base64(std::string_view data, std::string& out) {
+  for (std::size_t i = 0; i < data.size(); i += 3) {
+    const std::size_t left = data.size() - i;
+    std::uint32_t bits = static_cast<std::uint8_t>(data[i]) << 16;
+    if (left > 1) bits |= static_cast<std::uint8_t>(data[i + 1]) << 8;
+    if (left > 2) bits |= static_cast<std::uint8_t>(data[i + 2]);
+    out += kBase64[bits >> 18];
+    out += kBase64[(bits >> 12) & 63];
+    out += left > 1 ? kBase64[(bits >> 6) & 63] : '=';
+    out += left > 2 ? kBase64[bits & 63] : '=';
+  }
+}
+
+// ---- the file -----------------------------------------------------------------------
+
+// How the file stores binary arrays (VTKFile's attributes).
+struct Layout {
+  bool swap = false;       // byte_order differs from this machine's
+  bool big_endian = false;
+  std::size_t header_size = 4;  // header_type UInt32 or UInt64
+  bool zlib = false;
+};
+
+// An appended DataArray's offset="N": its value and where the value's text is.
+struct AppendedOffset {
+  std::uint64_t value = 0;
+  std::size_t begin = 0, end = 0;
+};
+
+enum class Format { Ascii, Binary, Appended };
+
+// A DataArray element as declared.
+struct DataArray {
+  std::string name;
+  Scalar type = Scalar::Float32;
+  std::uint64_t components = 1;
+  Format format = Format::Ascii;
+  std::size_t begin = 0, end = 0;  // its text, or appended: its bytes up to where they may end
+  std::size_t at = 0;              // the element's first byte, for its line
+};
+
+struct Vtu {
+  Vtu(std::string_view b, const std::string& p) : bytes(b), path(p) {}
+  std::string_view bytes;
+  const std::string& path;
+  std::string xml;  // the XML part, parsed in place
+  pugi::xml_document doc;
+  Layout layout;
+  std::size_t appended = kNone;  // the first byte after AppendedData's '_'
+  std::size_t appended_end = 0;  // where its data ends ("</AppendedData>" or the last non-space)
+  bool appended_base64 = false;
+  std::vector<AppendedOffset> offsets;  // of every appended DataArray, in file order
+};
+
+std::string line_place(const Vtu& f, std::size_t offset) {
+  offset = std::min(offset, f.bytes.size());
+  if (f.appended != kNone && offset >= f.appended && !f.appended_base64)
+    return f.path + ": byte " + std::to_string(offset);
+  const auto lines = std::count(f.bytes.begin(), f.bytes.begin() + static_cast<std::ptrdiff_t>(offset), '\n');
+  return f.path + ":" + std::to_string(lines + 1);
+}
+
+[[noreturn]] void fail(const Vtu& f, std::size_t offset, const std::string& message) {
+  throw InputError(At{line_place(f, offset)}, message);
+}
+
+std::string quoted(const DataArray& a) { return "DataArray '" + a.name + "'"; }
+
+std::size_t node_offset(const Vtu&, pugi::xml_node node) {
+  const std::ptrdiff_t at = node.offset_debug();
+  return at < 0 ? 0 : static_cast<std::size_t>(at);
+}
+
+// Where a value pugixml returns lies in the file, or kNone for one outside the buffer.
+std::size_t value_offset(const Vtu& f, const char* value) {
+  const char* base = f.xml.data();
+  if (value < base || value >= base + f.xml.size()) return kNone;
+  return static_cast<std::size_t>(value - base);
+}
+
+// Cuts the raw or base64 appended data off the XML part and notes where it is.
+void split_appended(Vtu& f) {
+  const std::string_view b = f.bytes;
+  const std::size_t tag = b.find("<AppendedData");
+  if (tag == kNone) {
+    f.xml.assign(b);
+    return;
+  }
+  const std::size_t tag_end = b.find('>', tag);
+  if (tag_end == kNone) fail(f, tag, "the AppendedData tag is not closed");
+  std::size_t underscore = tag_end + 1;
+  while (underscore < b.size() && is_space(b[underscore])) ++underscore;
+  if (underscore >= b.size() || b[underscore] != '_' || b[tag_end - 1] == '/')
+    fail(f, tag_end, "AppendedData's data must start with '_'");
+  f.appended = underscore + 1;
+  f.appended_end = b.rfind("</AppendedData>");
+  if (f.appended_end == kNone || f.appended_end < f.appended)
+    fail(f, f.appended, "the AppendedData element is not closed (no '</AppendedData>' after its data)");
+  f.xml.assign(b.substr(0, underscore));
+  f.xml += "</AppendedData></VTKFile>";
+}
+
+void parse_xml(Vtu& f) {
+  const pugi::xml_parse_result r =
+      f.doc.load_buffer_inplace(f.xml.data(), f.xml.size(), pugi::parse_default, pugi::encoding_utf8);
+  if (!r) fail(f, static_cast<std::size_t>(std::max<std::ptrdiff_t>(r.offset, 0)),
+               std::string("not well-formed XML: ") + r.description());
+}
+
+// VTKFile's type, byte order, header type and compressor.
+pugi::xml_node read_root(Vtu& f, std::string& version) {
+  const pugi::xml_node root = f.doc.document_element();
+  if (std::string_view(root.name()) != "VTKFile")
+    fail(f, node_offset(f, root), "not a VTK XML file (the root element is not VTKFile)");
+  const std::string_view type = root.attribute("type").value();
+  if (type != "UnstructuredGrid")
+    fail(f, node_offset(f, root), "VTKFile type '" + std::string(type) +
+         "' is not a volume mesh; ffdtool reads VTK XML files of type UnstructuredGrid (.vtu)");
+  version = root.attribute("version").value();
+  const std::string_view order = root.attribute("byte_order").value();
+  if (order != "" && order != "LittleEndian" && order != "BigEndian")
+    fail(f, node_offset(f, root), "unknown byte_order '" + std::string(order) + "'");
+  f.layout.big_endian = order == "BigEndian";
+  f.layout.swap = f.layout.big_endian != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__);
+  const std::string_view header = root.attribute("header_type").value();
+  if (header != "" && header != "UInt32" && header != "UInt64")
+    fail(f, node_offset(f, root), "header_type '" + std::string(header) + "' is not UInt32 or UInt64");
+  f.layout.header_size = header == "UInt64" ? 8 : 4;
+  const std::string_view compressor = root.attribute("compressor").value();
+  if (compressor != "" && compressor != "vtkZLibDataCompressor")
+    fail(f, node_offset(f, root), "compressor " + std::string(compressor) +
+         " is not supported; ffdtool reads zlib-compressed and uncompressed VTU");
+  f.layout.zlib = !compressor.empty();
+  return root;
+}
+
+// The one Piece of the UnstructuredGrid.
+pugi::xml_node find_piece(const Vtu& f, pugi::xml_node root) {
+  const pugi::xml_node grid = root.child("UnstructuredGrid");
+  if (!grid) fail(f, node_offset(f, root), "VTKFile has no UnstructuredGrid element");
+  const pugi::xml_node piece = grid.child("Piece");
+  if (!piece) fail(f, node_offset(f, grid), "the UnstructuredGrid has no Piece");
+  if (const pugi::xml_node second = piece.next_sibling("Piece"))
+    fail(f, node_offset(f, second), "a second Piece; ffdtool reads a VTU with one Piece");
+  return piece;
+}
+
+// Notes every appended DataArray's offset attribute, for finding where a base64 array
+// ends and for shifting later offsets when the Points array changes size.
+void collect_offsets(Vtu& f) {
+  struct Walker : pugi::xml_tree_walker {
+    Vtu* f;
+    bool for_each(pugi::xml_node& node) override {
+      if (std::string_view(node.name()) != "DataArray" || std::string_view(node.attribute("format").value()) != "appended")
+        return true;
+      const pugi::xml_attribute a = node.attribute("offset");
+      long long value;
+      const std::size_t begin = value_offset(*f, a.value());
+      if (!a || begin == kNone || begin == 0 || !parse_integer(a.value(), value) || value < 0)
+        fail(*f, node_offset(*f, node), "an appended DataArray needs offset=\"N\" with N >= 0");
+      const std::size_t end = f->bytes.find(f->bytes[begin - 1], begin);
+      f->offsets.push_back({static_cast<std::uint64_t>(value), begin, end == kNone ? begin : end});
+      return true;
+    }
+  } walker;
+  walker.f = &f;
+  f.doc.traverse(walker);
+}
+
+// Where appended data starting at `begin` may end: raw data at AppendedData's end, base64
+// text at the next array's offset.
+std::size_t appended_limit(const Vtu& f, std::uint64_t offset) {
+  if (!f.appended_base64) return f.appended_end;
+  std::uint64_t next = f.appended_end - f.appended;
+  for (const AppendedOffset& o : f.offsets)
+    if (o.value > offset) next = std::min(next, o.value);
+  return f.appended + static_cast<std::size_t>(next);
+}
+
+// The text span of a DataArray (ascii, binary): its one text child, found in the file.
+void text_span(const Vtu& f, pugi::xml_node node, DataArray& a) {
+  a.begin = a.end = a.at;
+  const pugi::xml_node text = node.first_child();
+  if (!text) return;
+  const std::size_t begin = value_offset(f, text.value());
+  if (text.type() != pugi::node_pcdata || text.next_sibling() || begin == kNone)
+    fail(f, a.at, quoted(a) + " must hold text only");
+  a.begin = begin;
+  a.end = std::min(f.bytes.find('<', begin), f.bytes.size());
+}
+
+void appended_span(const Vtu& f, pugi::xml_node node, DataArray& a) {
+  if (f.appended == kNone) fail(f, a.at, quoted(a) + " is appended but the file has no AppendedData");
+  long long offset = 0;
+  parse_integer(node.attribute("offset").value(), offset);  // checked by collect_offsets
+  if (static_cast<std::uint64_t>(offset) > f.appended_end - f.appended)
+    fail(f, a.at, quoted(a) + " has offset " + std::to_string(offset) + ", past the end of the AppendedData");
+  a.begin = f.appended + static_cast<std::size_t>(offset);
+  a.end = appended_limit(f, static_cast<std::uint64_t>(offset));
+}
+
+DataArray declare(const Vtu& f, pugi::xml_node node) {
+  DataArray a;
+  a.name = node.attribute("Name").value();
+  a.at = node_offset(f, node);
+  const std::string_view type = node.attribute("type").value();
+  const auto* s = std::find_if(std::begin(kScalars), std::end(kScalars), [&](const ScalarName& n) { return n.name == type; });
+  if (s == std::end(kScalars)) fail(f, a.at, quoted(a) + " has unknown type '" + std::string(type) + "'");
+  a.type = s->type;
+  long long components = 1;
+  if (node.attribute("NumberOfComponents") &&
+      (!parse_integer(node.attribute("NumberOfComponents").value(), components) || components < 1 || components > 1000000))
+    fail(f, a.at, quoted(a) + "'s NumberOfComponents is not a count");
+  a.components = static_cast<std::uint64_t>(components);
+  const std::string_view format = node.attribute("format").value();
+  if (format == "ascii") a.format = Format::Ascii;
+  else if (format == "binary") a.format = Format::Binary;
+  else if (format == "appended") a.format = Format::Appended;
+  else fail(f, a.at, quoted(a) + " has format '" + std::string(format) + "' (expected ascii, binary or appended)");
+  if (a.format == Format::Appended)
+    appended_span(f, node, a);
+  else
+    text_span(f, node, a);
+  return a;
+}
+
+// ---- binary arrays ------------------------------------------------------------------
+
+// An array's values as decoded from base64 and zlib, and how they were encoded.
+struct Stored {
+  std::string decoded;        // base64's bytes (header included)
+  std::string inflated;       // zlib's values
+  bool from_file = false;     // values lie in the file (raw appended, uncompressed)
+  bool in_decoded = false;    // values lie in `decoded` (base64, uncompressed)
+  std::size_t first = 0, size = 0;                  // the values within the file or `decoded`
+  std::size_t encoded_begin = 0, encoded_end = 0;   // the array's encoded bytes in the file
+  std::uint64_t blocks = 0, block_size = 0, last_block_size = 0;  // zlib's header
+  bool header_apart = false;  // base64: the header was encoded on its own (padded)
+
+  std::string_view values(std::string_view file) const {
+    if (from_file) return file.substr(first, size);
+    if (in_decoded) return std::string_view(decoded).substr(first, size);
+    return inflated;
+  }
+};
+
+std::uint64_t header_number(std::string_view s, std::size_t i, const Layout& l) {
+  const char* at = s.data() + i * l.header_size;
+  return l.header_size == 8 ? load<std::uint64_t>(at, l.swap) : load<std::uint32_t>(at, l.swap);
+}
+
+// zlib blocks after their header in `s`: inflated into st.inflated; returns the bytes used.
+std::size_t inflate_blocks(const Vtu& f, const DataArray& a, std::string_view s, Stored& st) {
+  const std::size_t h = f.layout.header_size;
+  if (s.size() < 3 * h) fail(f, a.at, quoted(a) + "'s compression header is truncated");
+  st.blocks = header_number(s, 0, f.layout);
+  st.block_size = header_number(s, 1, f.layout);
+  st.last_block_size = header_number(s, 2, f.layout);
+  if (st.blocks > (s.size() - 3 * h) / h) fail(f, a.at, quoted(a) + "'s compression header is truncated");
+  if (st.block_size > (1u << 30) || st.last_block_size > st.block_size)
+    fail(f, a.at, quoted(a) + "'s compression header has a block size out of range");
+  std::size_t at = (3 + st.blocks) * h;
+  std::uint64_t total = 0;  // uncompressed bytes
+  for (std::uint64_t k = 0; k < st.blocks; ++k) {
+    const std::uint64_t size = k + 1 == st.blocks && st.last_block_size ? st.last_block_size : st.block_size;
+    const std::uint64_t packed = header_number(s, 3 + k, f.layout);
+    if (packed > s.size() - at) fail(f, a.at, quoted(a) + ": zlib block " + std::to_string(k) + " is truncated");
+    if (size > packed * 1032 + 64)  // deflate's largest ratio is 1032:1
+      fail(f, a.at, quoted(a) + ": zlib block " + std::to_string(k) + " cannot hold " + std::to_string(size) + " bytes");
+    st.inflated.resize(total + size);
+    uLongf out = static_cast<uLongf>(size);
+    if (uncompress(reinterpret_cast<Bytef*>(st.inflated.data() + total), &out,
+                   reinterpret_cast<const Bytef*>(s.data() + at), static_cast<uLong>(packed)) != Z_OK || out != size)
+      fail(f, a.at, quoted(a) + ": zlib block " + std::to_string(k) + " is not valid zlib data of " +
+           std::to_string(size) + " bytes");
+    at += packed;
+    total += size;
+  }
+  return at;
+}
+
+// The header and values in `s` (raw or decoded): notes where the values are; returns the
+// bytes used.
+std::size_t unpack(const Vtu& f, const DataArray& a, std::string_view s, Stored& st) {
+  if (f.layout.zlib) return inflate_blocks(f, a, s, st);
+  const std::size_t h = f.layout.header_size;
+  if (s.size() < h) fail(f, a.at, quoted(a) + "'s header is truncated");
+  const std::uint64_t size = header_number(s, 0, f.layout);
+  if (size > s.size() - h)
+    fail(f, a.at, quoted(a) + " is truncated: its header says " + std::to_string(size) + " bytes, " +
+         std::to_string(s.size() - h) + " follow");
+  st.first = h;
+  st.size = static_cast<std::size_t>(size);
+  return h + st.size;
+}
+
+// Decodes a binary or appended array.
+Stored decode(const Vtu& f, const DataArray& a) {
+  Stored st;
+  std::string_view text = f.bytes.substr(a.begin, a.end - a.begin);
+  if (a.format == Format::Appended && !f.appended_base64) {
+    const std::size_t used = unpack(f, a, text, st);
+    st.from_file = !f.layout.zlib;
+    st.first += a.begin;
+    st.encoded_begin = a.begin;
+    st.encoded_end = a.begin + used;
+    return st;
+  }
+  std::size_t lead = 0;
+  while (lead < text.size() && is_space(text[lead])) ++lead;
+  while (text.size() > lead && is_space(text.back())) text.remove_suffix(1);
+  text.remove_prefix(lead);
+  st.encoded_begin = a.begin + lead;
+  st.encoded_end = st.encoded_begin + text.size();
+  const std::size_t bad = decode_base64(text, st.decoded);
+  if (bad != kNone) fail(f, st.encoded_begin + bad, quoted(a) + " is not valid base64");
+  const std::size_t used = unpack(f, a, st.decoded, st);
+  if (used != st.decoded.size())
+    fail(f, a.at, quoted(a) + " has " + std::to_string(st.decoded.size() - used) + " bytes after its data");
+  st.in_decoded = !f.layout.zlib;
+  const std::size_t header = f.layout.zlib ? (3 + st.blocks) * f.layout.header_size : f.layout.header_size;
+  const std::size_t chars = (header + 2) / 3 * 4;
+  st.header_apart = header % 3 != 0 && text.size() >= chars && text[chars - 1] == '=';
+  return st;
+}
+
+// ---- integer arrays -----------------------------------------------------------------
+
+using RangeMessage = std::function<std::string(std::uint64_t index, long long value)>;
+
+std::uint64_t max_values(const DataArray& a) {
+  const std::size_t text = a.end - a.begin;
+  return a.format == Format::Ascii ? text / 2 + 1 : std::numeric_limits<std::uint64_t>::max();
+}
+
+template <class T>
+void read_ascii_integers(const Vtu& f, const DataArray& a, std::uint64_t count, long long lo, long long hi,
+                         std::vector<T>& out, const RangeMessage& range) {
+  const char* p = f.bytes.data() + a.begin;
+  const char* end = f.bytes.data() + a.end;
+  for (std::uint64_t i = 0;; ++i) {
+    while (p < end && is_space(*p)) ++p;
+    if (i == count) {
+      if (p != end) fail(f, static_cast<std::size_t>(p - f.bytes.data()), quoted(a) + " has more than " + std::to_string(count) + " values");
+      return;
+    }
+    const std::size_t at = static_cast<std::size_t>(p - f.bytes.data());
+    if (p == end) fail(f, at, quoted(a) + " has " + std::to_string(i) + " values where " + std::to_string(count) + " are expected");
+    long long v;
+    const auto [next, ec] = std::from_chars(p, end, v);
+    if (ec != std::errc() || (next < end && !is_space(*next)))
+      fail(f, at, quoted(a) + ": '" + std::string(p, std::find_if(p, end, is_space)) + "' is not an integer");
+    if (v < lo || v > hi) fail(f, at, range(i, v));
+    out.push_back(static_cast<T>(v));
+    p = next;
+  }
+}
+
+// `count` integers of `a`, each in [lo, hi] (else the message `range` makes).
+template <class T>
+void read_integers(const Vtu& f, const DataArray& a, std::uint64_t count, long long lo, long long hi,
+                   std::vector<T>& out, const RangeMessage& range) {
+  if (is_float(a.type)) fail(f, a.at, quoted(a) + " has type " + std::string(scalar_name(a.type)) + "; expected an integer type");
+  if (count > max_values(a))
+    fail(f, a.at, quoted(a) + " is too short to hold " + std::to_string(count) + " values");
+  out.clear();
+  if (a.format == Format::Ascii) {
+    out.reserve(count);
+    return read_ascii_integers(f, a, count, lo, hi, out, range);
+  }
+  const Stored st = decode(f, a);
+  const std::string_view v = st.values(f.bytes);
+  const std::size_t size = scalar_size(a.type);
+  if (v.size() / size != count || v.size() % size != 0)
+    fail(f, a.at, quoted(a) + " holds " + std::to_string(v.size()) + " bytes where " + std::to_string(count) + " values of " +
+         std::string(scalar_name(a.type)) + " are expected");
+  out.resize(count);
+  for (std::uint64_t i = 0; i < count; ++i) {
+    const std::int64_t x = load_integer(v.data() + i * size, a.type, f.layout.swap);
+    if (x < lo || x > hi) fail(f, a.at, range(i, x));
+    out[i] = static_cast<T>(x);
+  }
+}
+
+// ---- points -------------------------------------------------------------------------
+
+struct PointsRead {
+  Eigen::Matrix3Xd points;
+  std::vector<std::uint64_t> spans;  // ascii: each node's text
+  Stored stored;                     // binary
+};
+
+void read_ascii_points(const Vtu& f, const DataArray& a, std::uint64_t n, PointsRead& r) {
+  if (3 * n > max_values(a)) fail(f, a.at, "the Points DataArray is too short to hold " + std::to_string(n) + " nodes");
+  r.points.resize(3, static_cast<Eigen::Index>(n));
+  r.spans.resize(2 * n);
+  const char* p = f.bytes.data() + a.begin;
+  const char* end = f.bytes.data() + a.end;
+  for (std::uint64_t i = 0; i < 3 * n; ++i) {
+    while (p < end && is_space(*p)) ++p;
+    const std::size_t at = static_cast<std::size_t>(p - f.bytes.data());
+    if (p == end) fail(f, at, "the Points DataArray has " + std::to_string(i) + " numbers where " + std::to_string(3 * n) + " (3 per node) are expected");
+    double x;
+    const auto [next, ec] = std::from_chars(p, end, x);
+    if (ec != std::errc() || (next < end && !is_space(*next)) || !std::isfinite(x))
+      fail(f, at, "node " + std::to_string(i / 3) + ": '" + std::string(p, std::find_if(p, end, is_space)) + "' is not a finite number");
+    if (a.type == Scalar::Float32) x = static_cast<float>(x);
+    r.points(static_cast<Eigen::Index>(i % 3), static_cast<Eigen::Index>(i / 3)) = x;
+    if (i % 3 == 0) r.spans[2 * (i / 3)] = at;
+    if (i % 3 == 2) r.spans[2 * (i / 3) + 1] = static_cast<std::size_t>(next - f.bytes.data());
+    p = next;
+  }
+  while (p < end && is_space(*p)) ++p;
+  if (p != end) fail(f, static_cast<std::size_t>(p - f.bytes.data()), "the Points DataArray has more than " + std::to_string(n) + " nodes");
+}
+
+PointsRead read_points(const Vtu& f, const DataArray& a, std::uint64_t n) {
+  if (!is_float(a.type))
+    fail(f, a.at, "Points of type " + std::string(scalar_name(a.type)) + " are not supported; ffdtool reads Float32 and Float64 points");
+  if (a.components != 3) fail(f, a.at, "Points need NumberOfComponents=\"3\", not " + std::to_string(a.components));
+  PointsRead r;
+  if (a.format == Format::Ascii) {
+    read_ascii_points(f, a, n, r);
+    return r;
+  }
+  r.stored = decode(f, a);
+  const std::string_view v = r.stored.values(f.bytes);
+  const BinaryScalar scalar{a.type == Scalar::Float64, f.layout.big_endian};
+  const std::size_t size = scalar_size(a.type);
+  if (v.size() != n * 3 * size)
+    fail(f, a.at, "the Points DataArray holds " + std::to_string(v.size()) + " bytes where " + std::to_string(n) +
+         " nodes take " + std::to_string(n * 3 * size));
+  r.points.resize(3, static_cast<Eigen::Index>(n));
+  for (std::uint64_t i = 0; i < 3 * n; ++i) {
+    const double x = read_binary_scalar(v.data() + i * size, scalar);
+    if (!std::isfinite(x)) fail(f, a.at, "node " + std::to_string(i / 3) + " has a coordinate that is not finite");
+    r.points(static_cast<Eigen::Index>(i % 3), static_cast<Eigen::Index>(i / 3)) = x;
+  }
+  return r;
+}
+
+// ---- cells --------------------------------------------------------------------------
+
+struct CellArrays {
+  std::optional<DataArray> connectivity, offsets, types, faces, faceoffsets;
+};
+
+CellArrays find_cell_arrays(const Vtu& f, pugi::xml_node piece) {
+  CellArrays c;
+  const pugi::xml_node cells = piece.child("Cells");
+  for (pugi::xml_node node : cells.children("DataArray")) {
+    DataArray a = declare(f, node);
+    std::optional<DataArray>* slot = a.name == "connectivity" ? &c.connectivity
+                                     : a.name == "offsets"    ? &c.offsets
+                                     : a.name == "types"      ? &c.types
+                                     : a.name == "faces"      ? &c.faces
+                                     : a.name == "faceoffsets" ? &c.faceoffsets
+                                                               : nullptr;
+    if (!slot) fail(f, a.at, "Cells " + quoted(a) + " is not supported (ffdtool reads connectivity, offsets, types, faces, faceoffsets)");
+    if (*slot) fail(f, a.at, "a second Cells " + quoted(a));
+    *slot = std::move(a);
+  }
+  return c;
+}
+
+const DataArray& need(const Vtu& f, const std::optional<DataArray>& a, const char* name, pugi::xml_node piece) {
+  if (!a) fail(f, node_offset(f, piece), std::string("the Piece has cells but no Cells DataArray '") + name + "'");
+  return *a;
+}
+
+// Each cell's type and node count, checked.
+void check_cells(const Vtu& f, const CellArrays& arrays, const VolumeCells& cells) {
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const std::string problem = vtk_cell_problem(cells.type[c], cells.degree(c));
+    if (!problem.empty()) fail(f, arrays.types->at, "cell " + std::to_string(c) + ": " + problem);
+  }
+}
+
+// What is wrong with face[start, end) as one polyhedron's stream (its face count, then
+// each face's node count and nodes below `nodes`), or an empty string.
+std::string stream_problem(const std::vector<std::uint32_t>& face, std::uint64_t start, std::uint64_t end,
+                           std::uint64_t nodes) {
+  if (start >= end) return "a polyhedron without faces";
+  std::uint64_t j = start + 1, k = 0;
+  for (; k < face[start] && j < end; ++k) {
+    const std::uint64_t first = j + 1, last = j + 1 + face[j];
+    if (last > end) break;
+    for (std::uint64_t m = first; m < last; ++m)
+      if (face[m] >= nodes)
+        return "node index " + std::to_string(face[m]) + " out of range (the file has " + std::to_string(nodes) + " nodes)";
+    j = last;
+  }
+  if (k != face[start] || j != end) return "the face stream does not match its face and node counts";
+  return {};
+}
+
+// Polyhedra's face streams: faceoffsets (end offsets, -1 for other kinds) and faces.
+void read_faces(const Vtu& f, const CellArrays& arrays, std::uint64_t nodes, VolumeCells& cells) {
+  const std::size_t n = cells.size();
+  const bool any = std::find(cells.type.begin(), cells.type.end(), cell_type::kPolyhedron) != cells.type.end();
+  if (!any && !arrays.faces) return;
+  if (!arrays.faces || !arrays.faceoffsets) fail(f, arrays.types->at, "polyhedron cells need the Cells DataArrays faces and faceoffsets");
+  std::vector<std::int64_t> ends;
+  read_integers(f, *arrays.faceoffsets, n, -1, INT64_MAX / 2, ends,
+                [](std::uint64_t i, long long v) { return "faceoffsets value " + std::to_string(v) + " of cell " + std::to_string(i) + " is out of range"; });
+  std::int64_t total = 0;
+  for (std::size_t c = 0; c < n; ++c) {
+    if ((ends[c] >= 0) != (cells.type[c] == cell_type::kPolyhedron))
+      fail(f, arrays.faceoffsets->at, "cell " + std::to_string(c) + " is a " + cell_type_name(cells.type[c]) +
+           (ends[c] >= 0 ? " with faces" : " without faces (faceoffsets -1)"));
+    if (ends[c] >= 0 && ends[c] < total) fail(f, arrays.faceoffsets->at, "faceoffsets decrease at cell " + std::to_string(c));
+    total = std::max(total, ends[c]);
+  }
+  read_integers(f, *arrays.faces, static_cast<std::uint64_t>(total), 0, UINT32_MAX, cells.face,
+                [](std::uint64_t i, long long v) { return "faces value " + std::to_string(i) + " (" + std::to_string(v) + ") is out of range"; });
+  cells.face_offset.assign(n, 0);
+  std::uint64_t start = 0;
+  for (std::size_t c = 0; c < n; ++c) {
+    cells.face_offset[c] = start;
+    if (ends[c] < 0) continue;
+    const std::uint64_t end = static_cast<std::uint64_t>(ends[c]);
+    const std::string problem = stream_problem(cells.face, start, end, nodes);
+    if (!problem.empty()) fail(f, arrays.faces->at, "cell " + std::to_string(c) + ": " + problem);
+    start = end;
+  }
+}
+
+VolumeCells read_cells(const Vtu& f, pugi::xml_node piece, std::uint64_t ncells, std::uint64_t nodes) {
+  VolumeCells cells;
+  const CellArrays arrays = find_cell_arrays(f, piece);
+  if (ncells == 0) return cells;
+  const DataArray& offsets = need(f, arrays.offsets, "offsets", piece);
+  std::vector<std::uint64_t> ends;
+  read_integers(f, offsets, ncells, 0, INT64_MAX / 2, ends,
+                [](std::uint64_t i, long long v) { return "offset " + std::to_string(v) + " of cell " + std::to_string(i) + " is negative"; });
+  for (std::size_t c = 1; c < ends.size(); ++c)
+    if (ends[c] < ends[c - 1]) fail(f, offsets.at, "offsets decrease at cell " + std::to_string(c));
+  cells.offset.reserve(ncells + 1);
+  cells.offset.insert(cells.offset.end(), ends.begin(), ends.end());
+  ends = {};
+  read_integers(f, need(f, arrays.connectivity, "connectivity", piece), cells.offset.back(), 0,
+                static_cast<long long>(nodes) - 1, cells.node, [&](std::uint64_t i, long long v) {
+                  const auto c = std::upper_bound(cells.offset.begin(), cells.offset.end(), i) - cells.offset.begin() - 1;
+                  return "cell " + std::to_string(c) + ": node index " + std::to_string(v) + " out of range (the file has " +
+                         std::to_string(nodes) + " nodes)";
+                });
+  read_integers(f, need(f, arrays.types, "types", piece), ncells, 0, 255, cells.type,
+                [](std::uint64_t i, long long v) { return "cell " + std::to_string(i) + ": unknown cell type " + std::to_string(v); });
+  check_cells(f, arrays, cells);
+  read_faces(f, arrays, nodes, cells);
+  return cells;
+}
+
+// ---- writing ------------------------------------------------------------------------
+
+// How the Points array of a VTU is encoded when it is base64 or zlib: written back by
+// re-encoding that array only, and only when a node moved.
+struct PointsEncoding {
+  Layout layout;
+  bool base64 = false;
+  bool header_apart = false;
+  bool float32 = false;
+  std::uint64_t blocks = 0, block_size = 0, last_block_size = 0;
+  std::size_t begin = 0, end = 0;        // the encoded array in the file
+  std::vector<AppendedOffset> later;     // offsets of appended arrays after it, in file order
+};
+
+class EncodedVtuPoints final : public VolumeFile {
+public:
+  EncodedVtuPoints(SharedBytes bytes, PointsEncoding encoding, std::string values)
+      : bytes_(std::move(bytes)), e_(std::move(encoding)), values_(std::move(values)) {}
+
+  void write(std::ostream& os, const Eigen::Matrix3Xd& positions) const override {
+    std::string values = values_;
+    if (!patch(values, positions)) {
+      os.write(bytes_->data(), static_cast<std::streamsize>(bytes_->size()));
+      return;
+    }
+    const std::string encoded = encode(values);
+    const std::int64_t delta = static_cast<std::int64_t>(encoded.size()) - static_cast<std::int64_t>(e_.end - e_.begin);
+    std::string out;
+    out.reserve(bytes_->size() + encoded.size());
+    std::size_t kept = 0;  // bytes_[kept, ...) is not yet copied
+    for (const AppendedOffset& o : e_.later) {
+      out.append(*bytes_, kept, o.begin - kept);
+      out += std::to_string(static_cast<std::int64_t>(o.value) + delta);
+      kept = o.end;
+    }
+    out.append(*bytes_, kept, e_.begin - kept);
+    out += encoded;
+    out.append(*bytes_, e_.end, std::string::npos);
+    os.write(out.data(), static_cast<std::streamsize>(out.size()));
+  }
+
+private:
+  // Writes the moved nodes into `values`; false if none moved.
+  bool patch(std::string& values, const Eigen::Matrix3Xd& positions) const {
+    const BinaryScalar scalar{!e_.float32, e_.layout.big_endian};
+    const std::size_t size = e_.float32 ? 4 : 8;
+    bool moved = false;
+    for (Eigen::Index i = 0; i < positions.cols(); ++i) {
+      char* at = values.data() + static_cast<std::size_t>(i) * 3 * size;
+      const Eigen::Vector3d stored(read_binary_scalar(at, scalar), read_binary_scalar(at + size, scalar),
+                                   read_binary_scalar(at + 2 * size, scalar));
+      if (unmoved(positions.col(i), stored, e_.float32)) continue;
+      for (int k = 0; k < 3; ++k) write_binary_scalar(at + k * size, positions(k, i), scalar);
+      moved = true;
+    }
+    return moved;
+  }
+
+  void put_number(std::string& out, std::uint64_t x) const {
+    char b[8];
+    if (e_.layout.header_size == 8)
+      store<std::uint64_t>(b, x, e_.layout.swap);
+    else
+      store<std::uint32_t>(b, static_cast<std::uint32_t>(x), e_.layout.swap);
+    out.append(b, e_.layout.header_size);
+  }
+
+  // The header and data of the array as the file encodes them.
+  std::string encode(const std::string& values) const {
+    std::string header, data;
+    if (!e_.layout.zlib) {
+      put_number(header, values.size());
+      data = values;
+    } else {
+      put_number(header, e_.blocks);
+      put_number(header, e_.block_size);
+      put_number(header, e_.last_block_size);
+      for (std::uint64_t k = 0; k < e_.blocks; ++k) {
+        const std::size_t first = static_cast<std::size_t>(k * e_.block_size);
+        const std::size_t size = std::min<std::size_t>(static_cast<std::size_t>(e_.block_size), values.size() - first);
+        uLongf packed = compressBound(static_cast<uLong>(size));
+        std::string block(packed, '\0');
+        compress2(reinterpret_cast<Bytef*>(block.data()), &packed, reinterpret_cast<const Bytef*>(values.data() + first),
+                  static_cast<uLong>(size), Z_DEFAULT_COMPRESSION);
+        put_number(header, packed);
+        data.append(block, 0, packed);
+      }
+    }
+    if (!e_.base64) return header + data;
+    std::string text;
+    if (e_.header_apart) {
+      encode_base64(header, text);
+      encode_base64(data, text);
+    } else {
+      encode_base64(header + data, text);
+    }
+    return text;
+  }
+
+  SharedBytes bytes_;
+  PointsEncoding e_;
+  std::string values_;
+};
+
+std::shared_ptr<const VolumeFile> points_file(const Vtu& f, SharedBytes bytes, const DataArray& a, PointsRead& r) {
+  if (a.format == Format::Ascii) return std::make_shared<TextPoints>(std::move(bytes), std::move(r.spans), 3, r.points);
+  const BinaryScalar scalar{a.type == Scalar::Float64, f.layout.big_endian};
+  if (r.stored.from_file) {
+    const std::uint64_t stride = 3 * scalar_size(a.type);
+    return std::make_shared<BinaryPoints>(std::move(bytes), std::vector<BinaryBlock>{{0, static_cast<std::uint64_t>(r.points.cols()), r.stored.first, stride}},
+                                          scalar, 3);
+  }
+  PointsEncoding e;
+  e.layout = f.layout;
+  e.base64 = a.format == Format::Binary || f.appended_base64;
+  e.header_apart = r.stored.header_apart;
+  e.float32 = a.type == Scalar::Float32;
+  e.blocks = r.stored.blocks;
+  e.block_size = r.stored.block_size;
+  e.last_block_size = r.stored.last_block_size;
+  e.begin = r.stored.encoded_begin;
+  e.end = r.stored.encoded_end;
+  if (a.format == Format::Appended)
+    for (const AppendedOffset& o : f.offsets)
+      if (o.value > a.begin - f.appended) e.later.push_back(o);
+  return std::make_shared<EncodedVtuPoints>(std::move(bytes), std::move(e), std::string(r.stored.values(f.bytes)));
+}
+
+std::string encoding_name(const Vtu& f, const DataArray* points) {
+  if (!points) return f.layout.zlib ? "zlib" : "";
+  std::string name = points->format == Format::Ascii    ? "ascii"
+                     : points->format == Format::Binary ? "binary"
+                     : f.appended_base64               ? "appended base64"
+                                                       : "appended raw";
+  if (f.layout.zlib && points->format != Format::Ascii) name += " zlib";
+  return name;
+}
+
+std::uint64_t count_attribute(const Vtu& f, pugi::xml_node piece, const char* name, std::uint64_t max) {
+  long long n;
+  if (!parse_integer(piece.attribute(name).value(), n) || n < 0 || static_cast<unsigned long long>(n) > max)
+    fail(f, node_offset(f, piece), std::string("the Piece's ") + name + " is not a count from 0 to " + std::to_string(max));
+  return static_cast<std::uint64_t>(n);
+}
+
+}  // namespace
+
+VolumeRead read_vtu(SharedBytes bytes, const std::string& path) {
+  Vtu f(*bytes, path);
+  split_appended(f);
+  parse_xml(f);
+  VolumeRead out;
+  const pugi::xml_node root = read_root(f, out.source.version);
+  if (f.appended != kNone) {
+    const std::string_view encoding = root.child("AppendedData").attribute("encoding").value();
+    if (encoding != "raw" && encoding != "base64")
+      fail(f, f.appended, "AppendedData encoding '" + std::string(encoding) + "' is not raw or base64");
+    f.appended_base64 = encoding == "base64";
+    if (f.appended_base64)
+      while (f.appended_end > f.appended && is_space(f.bytes[f.appended_end - 1])) --f.appended_end;
+  }
+  collect_offsets(f);
+  const pugi::xml_node piece = find_piece(f, root);
+  const std::uint64_t nodes = count_attribute(f, piece, "NumberOfPoints", UINT32_MAX);
+  const std::uint64_t ncells = count_attribute(f, piece, "NumberOfCells", std::uint64_t{1} << 40);
+  const pugi::xml_node points_node = piece.child("Points").child("DataArray");
+  std::optional<DataArray> points;
+  if (points_node) points = declare(f, points_node);
+  else if (nodes > 0) fail(f, node_offset(f, piece), "the Piece has nodes but no Points DataArray");
+  PointsRead r;
+  if (points) r = read_points(f, *points, nodes);
+  out.source.format = VolumeFormat::Vtu;
+  out.source.encoding = encoding_name(f, points ? &*points : nullptr);
+  out.source.cells = read_cells(f, piece, ncells, nodes);
+  out.points = r.points;
+  if (points) out.source.file = points_file(f, bytes, *points, r);
+  else out.source.file = std::make_shared<TextPoints>(bytes, std::vector<std::uint64_t>{}, 3, Eigen::Matrix3Xd(3, 0));
+  return out;
+}
+
+}  // namespace ffd
