@@ -9,6 +9,7 @@ packages=(
   libcgal-dev libeigen3-dev libsuitesparse-dev libsleef-dev libnanoflann-dev
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libpng-dev
   libdraco-dev libmeshoptimizer-dev
+  libpugixml-dev zlib1g-dev
   libgtest-dev libgmock-dev libssl-dev
   libcgal-demo
   libxml2-utils
@@ -16,6 +17,7 @@ packages=(
   python3-dev pybind11-dev python3-numpy python3-scipy python3-pytest
   python3-meshio
   assimp-utils
+  gmsh tetgen
 )
 # Node (Debian's nodejs, with npm) runs Khronos' glTF-Validator; a machine that has node
 # and npm from elsewhere keeps them.

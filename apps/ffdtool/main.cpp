@@ -20,7 +20,9 @@
 #include "script/runner.h"
 #include "script/schema.h"
 #include "script/schema_markdown.h"
+#include "script/scene.h"
 #include "script/script.h"
+#include "script/volume_guard.h"
 
 namespace {
 
@@ -73,8 +75,42 @@ void print_gltf_info(const ffd::GltfSummary& g) {
   for (const std::string& note : g.notes) std::printf("  note       %s\n", note.c_str());
 }
 
+// `info` on a volume mesh: its facts (script/volume_guard.h) and the guard's verdict.
+int volume_info(const ffd::Mesh& mesh, const std::string& path, bool as_json) {
+  ffd::Scene scene;
+  scene.mesh = mesh.clone();
+  const nlohmann::ordered_json facts = ffd::volume_stats(scene.mesh);
+  const nlohmann::ordered_json guard = ffd::guard_scene(scene);
+  if (as_json) {
+    nlohmann::ordered_json j = {{"path", path}, {"vertices", mesh.num_vertices()}, {"volume", facts}, {"guard", guard}};
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::string kinds, markers;
+  for (const auto& [kind, count] : facts["cells_by_type"].items())
+    kinds += (kinds.empty() ? "" : ", ") + ffd::format_count(count.get<std::size_t>()) + " " + kind;
+  for (const auto& m : facts["markers"])
+    markers += (markers.empty() ? "" : ", ") + m["name"].get<std::string>() + " (" +
+               ffd::format_count(m["elements"].get<std::size_t>()) + " elements)";
+  const auto& lo = facts["bbox_min"];
+  const auto& hi = facts["bbox_max"];
+  std::printf("%s\n", path.c_str());
+  std::printf("  format     %s %s, %s, %dD\n", facts["format"].get<std::string>().c_str(),
+              facts["version"].get<std::string>().c_str(), facts["encoding"].get<std::string>().c_str(),
+              facts["dimension"].get<int>());
+  std::printf("  nodes      %s\n", ffd::format_count(mesh.num_vertices()).c_str());
+  std::printf("  cells      %s (%s)\n", ffd::format_count(facts["cells"].get<std::size_t>()).c_str(), kinds.c_str());
+  std::printf("  markers    %s\n", markers.empty() ? "none" : markers.c_str());
+  std::printf("  bbox       [%g, %g, %g] .. [%g, %g, %g]\n", lo[0].get<double>(), lo[1].get<double>(),
+              lo[2].get<double>(), hi[0].get<double>(), hi[1].get<double>(), hi[2].get<double>());
+  std::printf("  quality    %s\n", ffd::guard_line(*scene.quality).c_str());
+  std::printf("  steps      every space warp moves the nodes; remesh and bcm refuse a volume mesh\n");
+  return 0;
+}
+
 int command_info(const std::string& path, bool as_json) {
   const ffd::Mesh mesh = ffd::read_mesh(path);
+  if (mesh.volume_source()) return volume_info(mesh, path, as_json);
   const ffd::MeshInfo info = ffd::mesh_info(mesh);
   const bool gltf = mesh.gltf_scene() != nullptr;
   if (as_json) {
@@ -206,13 +242,15 @@ int command_report(const std::string& folder, bool as_json, const std::string& j
 void add_run(CLI::App& app, Commands& c) {
   ffd::RunOptions& run = c.run;
   c.run_cmd = app.add_subcommand("run", "Run a deformation script on a mesh");
-  c.run_cmd->add_option("mesh", run.mesh, "Input mesh (.obj .off .ply .stl .gltf .glb)")->required();
+  c.run_cmd->add_option("mesh", run.mesh, "Input mesh (.obj .off .ply .stl .gltf .glb; volume: .vtu .vtk .msh .su2, or an OpenFOAM polyMesh folder)")->required();
   c.run_cmd->add_option("script", run.script, "JSON deformation script")->required();
   c.run_cmd->add_option("-o,--output", run.output, "Output mesh; its folder receives the script's saves")->required();
   c.run_cmd->add_option("--stats", run.stats, "Write the stats report (JSON) here");
   c.run_cmd->add_option("--preview", run.preview, "Render the final mesh with every lattice's control net to this PNG");
   c.run_cmd->add_option("--save-dir", run.save_folder, "Folder the script's save paths are relative to (default: OUT's)");
   c.run_cmd->add_flag("--quiet", run.quiet, "No per-step lines on stderr");
+  c.run_cmd->add_flag("--allow-inverted", run.allow_inverted,
+                      "Volume meshes: write the result even if it has inverted cells (a warning names them)");
   c.run_cmd->add_option("--threads", run.threads, "Threads for evaluation (default: all cores)")
       ->check(CLI::NonNegativeNumber);
   add_progress(c.run_cmd, run.progress,

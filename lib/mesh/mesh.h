@@ -32,6 +32,7 @@ namespace ffd {
 struct GltfScene;
 struct PlySource;
 struct ObjSource;
+struct VolumeSource;
 
 /// Declared attributes: what steps other than the file's own data leave on a mesh, by
 /// name. Each persists through every later step (copies and connectivity changes too),
@@ -249,6 +250,14 @@ public:
     obj_version_ = topology_version_;
   }
 
+  /// The volume mesh the vertices are the nodes of (volume_mesh.h): its cells, markers and
+  /// file, which a write patches with the current positions; null for surface formats.
+  /// A volume mesh's connectivity never changes (the ops that would change it refuse it).
+  const VolumeSource* volume_source() const { return volume_.get(); }
+  void set_volume_source(std::shared_ptr<const VolumeSource> source) { volume_ = std::move(source); }
+  /// The current positions as the matrix they are stored in (for writers that take one).
+  const Eigen::Matrix3Xd& position_matrix() const { return pos_; }
+
   /// Refinement levels (mesh_attribute): per vertex (empty: all 0), and the edges whose
   /// level is not 0, sorted by (a, b).
   std::vector<RefinementLevel>& vertex_levels() { return vertex_levels_; }
@@ -292,6 +301,7 @@ private:
   std::uint64_t ply_version_ = 0;
   std::shared_ptr<const ObjSource> obj_;  // shared by clones: it is never changed
   std::uint64_t obj_version_ = 0;
+  std::shared_ptr<const VolumeSource> volume_;  // shared by clones: it is never changed
   std::vector<EdgeLevel> edge_levels_;
   std::uint64_t topology_version_ = 0;
 };

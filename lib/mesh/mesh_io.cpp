@@ -24,6 +24,7 @@
 #include "mesh/ply_stl_io.h"
 #include "mesh/stl_io.h"
 #include "mesh/text_encoding.h"
+#include "mesh/volume_io.h"
 #include "mesh/vertex_colors.h"
 
 namespace ffd {
@@ -39,6 +40,15 @@ std::optional<MeshFormat> format_of(const std::filesystem::path& path) {
   if (ext == ".stl") return MeshFormat::Stl;
   if (ext == ".gltf") return MeshFormat::Gltf;
   if (ext == ".glb") return MeshFormat::Glb;
+  if (const std::optional<VolumeFormat> volume = volume_format_of(path)) {
+    switch (*volume) {
+      case VolumeFormat::Vtu: return MeshFormat::Vtu;
+      case VolumeFormat::Vtk: return MeshFormat::Vtk;
+      case VolumeFormat::Msh: return MeshFormat::Msh;
+      case VolumeFormat::Su2: return MeshFormat::Su2;
+      case VolumeFormat::Foam: return MeshFormat::Foam;
+    }
+  }
   return std::nullopt;
 }
 
@@ -47,10 +57,25 @@ std::optional<MeshFormat> format_of(const std::filesystem::path& path) {
 MeshFormat mesh_format(const std::filesystem::path& path) {
   if (const std::optional<MeshFormat> format = format_of(path)) return *format;
   throw InputError(path.string() + ": unknown mesh format '" + path.extension().string() +
-                   "' (ffdtool reads and writes .obj, .off, .ply, .stl, .gltf, .glb)");
+                   "' (ffdtool reads and writes .obj, .off, .ply, .stl, .gltf, .glb, the volume meshes .vtu, .vtk, "
+                   ".msh, .su2, and OpenFOAM polyMesh folders: an existing folder, or a path ending in polyMesh)");
 }
 
-bool has_mesh_extension(const std::filesystem::path& path) { return format_of(path).has_value(); }
+bool has_mesh_extension(const std::filesystem::path& path) {
+  const std::optional<MeshFormat> format = format_of(path);
+  return format && format != MeshFormat::Foam;
+}
+
+std::optional<VolumeFormat> volume_format(MeshFormat format) {
+  switch (format) {
+    case MeshFormat::Vtu: return VolumeFormat::Vtu;
+    case MeshFormat::Vtk: return VolumeFormat::Vtk;
+    case MeshFormat::Msh: return VolumeFormat::Msh;
+    case MeshFormat::Su2: return VolumeFormat::Su2;
+    case MeshFormat::Foam: return VolumeFormat::Foam;
+    default: return std::nullopt;
+  }
+}
 
 namespace {
 
@@ -141,6 +166,7 @@ std::size_t stage_gltf_images(const std::filesystem::path& target, const Mesh& m
 
 Mesh read_mesh(const std::string& path, bool defer_normals) {
   const MeshFormat format = mesh_format(path);
+  if (const std::optional<VolumeFormat> volume = volume_format(format)) return read_volume_mesh(path, *volume);
   const FileBytes bytes = read_bytes(path);
   std::string_view text = bytes.view();
   // A text format (and a PLY's header) must be ASCII or UTF-8; a binary STL's 80-byte
@@ -166,6 +192,8 @@ Mesh read_mesh(const std::string& path, bool defer_normals) {
     case MeshFormat::Gltf:
     case MeshFormat::Glb:
       return read_gltf(text, path, format == MeshFormat::Glb);
+    default:
+      break;  // the volume formats, read above
   }
   // Nothing to deform, and nothing a step could write back: not a mesh.
   if (soup.positions.empty()) throw InputError(At{path}, "the file has no vertex");
@@ -196,6 +224,7 @@ std::pair<Mesh, Mesh> read_mesh_pair(const std::string& a, const std::string& b)
 }
 
 void check_writable(const Mesh& mesh, MeshFormat format, const std::string& path) {
+  if (const std::optional<VolumeFormat> volume = volume_format(format)) return check_volume_writable(mesh, *volume, path);
   if (format == MeshFormat::Obj) return;
   const bool gltf = format == MeshFormat::Gltf || format == MeshFormat::Glb;
   if (gltf && mesh.gltf_scene()) return;  // written in its own structure
@@ -235,6 +264,7 @@ std::string unwritten_obj_data(const Mesh& mesh, MeshFormat format) {
 }  // namespace
 
 std::string unwritten_data(const Mesh& mesh, MeshFormat format) {
+  if (mesh.volume_source() && !volume_format(format)) return unwritten_volume_data(mesh) + " are not written";
   std::string lost = unwritten_obj_data(mesh, format);
   const PlySource* ply = mesh.ply_source_as_read();
   const bool faithful = format == MeshFormat::Ply && mesh.ply_source();
@@ -277,6 +307,9 @@ void write_mesh(std::ostream& os, MeshFormat format, const Mesh& mesh, const Wri
     case MeshFormat::Glb:
       write_gltf(os, mesh, options.transform_normal, format == MeshFormat::Glb);
       break;
+    default:  // a volume format (check_writable first): the file patched; OpenFOAM's `points`
+      mesh.volume_source()->file->write(os, mesh.position_matrix());
+      break;
   }
 }
 
@@ -287,6 +320,11 @@ std::vector<StagedFile> stage_mesh_files(const std::string& path, const Mesh& me
   check_writable(mesh, format, path);
   std::vector<StagedFile> files;
   std::size_t total = 0;
+  if (volume_format(format)) {
+    total = stage_volume_files(path, mesh, files);
+    if (bytes) *bytes = total;
+    return files;
+  }
   if (format == MeshFormat::Gltf || format == MeshFormat::Glb) total = stage_gltf_images(target, mesh, files);
   if (format != MeshFormat::Gltf) {
     files.emplace_back(target);

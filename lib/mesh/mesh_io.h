@@ -1,8 +1,11 @@
-// Reading and writing meshes by file extension: .obj, .off, .ply, .stl, .gltf, .glb.
+// Reading and writing meshes by file extension: .obj, .off, .ply, .stl, .gltf, .glb, and
+// the volume meshes of volume_io.h: .vtu, .vtk, .msh, .su2 and OpenFOAM polyMesh folders
+// (a path without an extension).
 #pragma once
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -11,15 +14,19 @@
 #include "mesh/gltf_io.h"
 #include "mesh/mesh.h"
 #include "mesh/obj_io.h"
+#include "mesh/volume_mesh.h"
 
 namespace ffd {
 
-enum class MeshFormat { Obj, Off, Ply, Stl, Gltf, Glb };
+enum class MeshFormat { Obj, Off, Ply, Stl, Gltf, Glb, Vtu, Vtk, Msh, Su2, Foam };
+
+/// The volume format a MeshFormat is, if it is one.
+std::optional<VolumeFormat> volume_format(MeshFormat format);
 
 /// The format named by `path`'s extension (case-insensitive).
 /// \throw InputError for any other extension.
 MeshFormat mesh_format(const std::filesystem::path& path);
-/// Whether `path`'s extension names a mesh format.
+/// Whether `path`'s extension names a mesh file format (not an OpenFOAM folder).
 bool has_mesh_extension(const std::filesystem::path& path);
 
 /// Reads a mesh file into a Mesh, checked as build_mesh describes.

@@ -112,6 +112,7 @@ void BcmStep::check(ScriptChecks& checks) const {
 }
 
 void BcmStep::run(Scene& scene, StepContext& ctx) const {
+  require_surface_mesh(scene.mesh, "bcm");
   const nlohmann::ordered_json baked = bake_stack(scene, ctx.pointer);
   const auto positions = scene.mesh.positions();
   const std::vector<std::uint32_t> support_vertices = select_vertices(support, positions);

@@ -81,6 +81,7 @@ void RemeshStep::check(ScriptChecks& checks) const {
 }
 
 void RemeshStep::run(Scene& scene, StepContext& ctx) const {
+  require_surface_mesh(scene.mesh, "remesh");
   const RemeshStats stats = adaptive_remesh(scene.mesh, scene.halfedges, scene.stack, options, ctx.progress);
   ctx.stats["l_max"] = stats.l_max;
   ctx.stats["trigger"] = name_of(kTriggers, options.trigger);

@@ -16,6 +16,7 @@
 #include "script/output_files.h"
 #include "script/scene.h"
 #include "script/script.h"
+#include "script/volume_guard.h"
 
 namespace ffd {
 namespace fs = std::filesystem;
@@ -162,13 +163,23 @@ nlohmann::ordered_json run_steps(const Script& script, Scene& scene, const RunOp
     nlohmann::ordered_json entry = {{"index", i}, {"op", step.op->name()}, {"ms", ms},
                                     {"vertices", scene.mesh.num_vertices()}, {"faces", scene.mesh.num_faces()}};
     entry.update(ctx.stats);
+    if (scene.mesh.volume_source()) entry["guard"] = guard_scene(scene);
     steps.push_back(entry);
     if (quiet) continue;
     std::fprintf(stderr, "  [%zu] %s (%s)\n", i, ctx.summary.c_str(), format_ms(ms).c_str());
+    if (scene.quality) std::fprintf(stderr, "      %s\n", guard_line(*scene.quality).c_str());
     for (std::size_t w = warnings_before; w < scene.warnings.size(); ++w)
       std::fprintf(stderr, "  warning: %s\n", scene.warnings[w].c_str());
   }
   return steps;
+}
+
+// A volume mesh's facts and its guard verdict as read, into the stats' input.
+void volume_input_stats(Scene& scene, nlohmann::ordered_json& stats, bool quiet) {
+  if (!scene.mesh.volume_source()) return;
+  stats["input"]["volume"] = volume_stats(scene.mesh);
+  stats["input"]["guard"] = guard_scene(scene);
+  if (!quiet) std::fprintf(stderr, "  as read: %s\n", guard_line(*scene.quality).c_str());
 }
 
 // Stages the stats file with the run's other outputs.
@@ -213,11 +224,12 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
                  format_ms(stats["input"]["read_ms"].get<double>()).c_str());
   const bool from_gltf = gltf_notes(options, scene);
   reader_warnings(options, scene);
+  volume_input_stats(scene, stats, options.quiet);
   stats["steps"] = run_steps(script, scene, options);
-
   warn_if_gltf_flattened(options, scene, from_gltf);
   Stopwatch write_clock;
   const std::size_t warnings_before = scene.warnings.size();
+  check_inverted_cells(scene, options.output, options.allow_inverted || script.allow_inverted);
   stage_mesh_at(scene, options.output, scene.write_options());
   for (std::size_t w = warnings_before; w < scene.warnings.size() && !options.quiet; ++w)
     std::fprintf(stderr, "  warning: %s\n", scene.warnings[w].c_str());
@@ -249,6 +261,7 @@ nlohmann::ordered_json run_in_memory(const Script& script, Scene& scene, const M
   step_options.quiet = options.quiet;
   gltf_notes(step_options, scene);
   reader_warnings(step_options, scene);
+  volume_input_stats(scene, stats, options.quiet);
   stats["steps"] = run_steps(script, scene, step_options);
   output_stats(stats, nullptr, scene, 0.0, total.ms());
   for (StagedFile& file : scene.staged) file.commit();

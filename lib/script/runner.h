@@ -18,6 +18,9 @@ struct RunOptions {
   std::string preview;  // PNG of the final mesh with every lattice's control net, or empty
   bool quiet = false;  // no per-step lines on stderr
   int threads = 0;     // 0: OpenMP's default
+  /// A volume mesh's result may have inverted cells (written with a warning); also the
+  /// script's "allow_inverted". Without either such a run is an InputError.
+  bool allow_inverted = false;
   /// Progress of the steps on stderr (common/progress.h): Auto is a live line when stderr
   /// is a terminal, and nothing when it is not or when `quiet`; Json is step events.
   ProgressMode progress = ProgressMode::None;

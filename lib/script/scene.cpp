@@ -1,6 +1,7 @@
 #include "script/scene.h"
 
 #include "common/errors.h"
+#include "mesh/volume_mesh.h"
 
 namespace ffd {
 
@@ -28,6 +29,14 @@ void check_not_baked(const Scene& scene, const std::string& name) {
 Deformer& Scene::deformer(const std::string& name) {
   check_not_baked(*this, name);
   return *deformers.at(name);
+}
+
+void require_surface_mesh(const Mesh& mesh, const std::string& op) {
+  const VolumeSource* volume = mesh.volume_source();
+  if (!volume) return;
+  throw InputError(op + " acts on surface meshes, and " + mesh.source() + " is a " + volume_format_name(volume->format) +
+                   " volume mesh: its nodes move with the space warps (lattice, rbf, idw, cage, drag, move), but " + op +
+                   " would change or need a surface it does not have");
 }
 
 }  // namespace ffd

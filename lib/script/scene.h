@@ -4,12 +4,14 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "common/atomic_file.h"
+#include "mesh/cell_quality.h"
 #include "mesh/halfedge_view.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_io.h"
@@ -40,6 +42,8 @@ struct Scene {
   /// Files written by steps, put in place only when the whole run succeeds.
   std::vector<StagedFile> staged;
   std::vector<std::string> warnings;
+  /// A volume mesh's last guard verdict (script/volume_guard.h), empty before the first.
+  std::optional<CellQuality> quality;
 
   /// Write options that carry file normals through the warp stack.
   WriteOptions write_options() const;
@@ -47,6 +51,10 @@ struct Scene {
   /// \throw InputError about "lattice" if it was baked by a surface edit.
   Deformer& deformer(const std::string& name);
 };
+
+/// Refuses a volume mesh (Mesh::volume_source) for an op that changes or needs a surface
+/// (`op`: "remesh", "bcm"). \throw InputError saying why.
+void require_surface_mesh(const Mesh& mesh, const std::string& op);
 
 /// What one step reports: its JSON stats object (op-specific counts) and a summary line;
 /// and where it reports how far it is.

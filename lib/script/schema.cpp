@@ -117,6 +117,12 @@ json build_schema() {
           {"properties",
            {{"version", {{"const", 1}, {"description", "Script format version; must be 1."}}},
             {"description", {{"type", "string"}, {"description", "Free text, ignored."}}},
+            {"allow_inverted",
+             {{"type", "boolean"},
+              {"default", false},
+              {"description",
+               "Volume meshes: write the result even if it has inverted cells (a warning names them). By default "
+               "such a run fails with exit 2 and writes nothing. Also the run's --allow-inverted flag."}}},
             {"steps", {{"type", "array"}, {"description", "Steps run in order."}, {"items", {{"oneOf", steps}}}}}}},
           {"$defs", defs}};
 }

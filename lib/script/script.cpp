@@ -31,6 +31,7 @@ Script parse_script(const std::string& text, const std::string& path) {
     throw InputError(At{path + ": " + (error->path.empty() ? "/" : error->path)}, error->message);
 
   ScriptChecks checks(script.path);
+  script.allow_inverted = script.resolved.value("allow_inverted", false);
   const json& steps = script.resolved["steps"];
   for (std::size_t i = 0; i < steps.size(); ++i) {
     const ScriptPlace place{script.path, script.folder, "/steps/" + std::to_string(i)};

@@ -18,6 +18,7 @@ struct Script {
   std::string folder;       // selection files are relative to it
   nlohmann::json resolved;  // the script with every default filled in
   std::vector<std::unique_ptr<Step>> steps;
+  bool allow_inverted = false;  // a volume mesh's result may have inverted cells
 };
 
 /// Parses and checks script text. \throw InputError "path: /json/pointer: what" for

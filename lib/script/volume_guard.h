@@ -1,0 +1,33 @@
+// The run's side of volume meshes: their facts and the quality guard (mesh/cell_quality.h)
+// as stats, after the read and after every step, and the refusal of a result with
+// inverted cells unless the run allows it.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "mesh/cell_quality.h"
+#include "mesh/mesh.h"
+
+namespace ffd {
+
+struct Scene;
+
+/// The input's volume facts for the stats: format, encoding, nodes, cells by kind,
+/// markers with their element counts, and the bounding box. Null for a surface mesh.
+nlohmann::ordered_json volume_stats(const Mesh& mesh);
+
+/// Runs the guard on the scene's mesh at its current positions, keeps the verdict in
+/// `scene.quality`, and returns it as stats: inverted_cells, min_scaled_jacobian,
+/// worst_cells (cell, scaled_jacobian, volume, centroid), guard_ms. Null for a surface mesh.
+nlohmann::ordered_json guard_scene(Scene& scene);
+
+/// The guard's line for the console ("cells: 0 inverted, min scaled Jacobian 0.412").
+std::string guard_line(const CellQuality& quality);
+
+/// After the last step: a result with inverted cells is refused (InputError naming the
+/// count and the first cell, so nothing is written), or with `allow` written with a
+/// warning on scene.warnings.
+void check_inverted_cells(Scene& scene, const std::string& output, bool allow);
+
+}  // namespace ffd
