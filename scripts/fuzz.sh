@@ -4,7 +4,7 @@
 # build-fuzz/corpus/<target>/, findings to build-fuzz/findings/<target>/; copy a finding,
 # once fixed, to tests/fuzz/regressions/<target>/ so that ctest replays it.
 # Usage: scripts/fuzz.sh [SECONDS] [TARGET...]
-#   (targets: obj off ply stl gltf gltf_draco gltf_meshopt script run)
+#   (targets: obj off ply stl gltf gltf_draco gltf_meshopt vtu vtk msh su2 foam script run)
 # run: a script run on a small sphere by the runner (tests/fuzz/run_input.h);
 # gltf_draco, gltf_meshopt: the compressed stream of a small glTF (tests/fuzz/compressed_input.h).
 set -euo pipefail
@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(obj off ply stl gltf gltf_draco gltf_meshopt script run)
+[ ${#targets[@]} -gt 0 ] || targets=(obj off ply stl gltf gltf_draco gltf_meshopt vtu vtk msh su2 foam script run)
 scripts/setup.sh
 for p in clang libclang-rt-dev libomp-dev; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||

@@ -16,6 +16,7 @@
 #include "fuzz/gltf_input.h"
 #include "fuzz/reader_paths.h"
 #include "fuzz/run_input.h"
+#include "fuzz/volume_input.h"
 #include "mesh/build_mesh.h"
 #include "mesh/obj_io.h"
 #include "mesh/off_io.h"
@@ -52,7 +53,7 @@ Reader mesh_reader(PolygonSoup (*read)(std::string_view, const std::string&)) {
 }
 
 TEST(FuzzCorpus, EveryInputIsReadOrRefusedWithAnInputError) {
-  const std::map<std::string, Reader> targets = {
+  std::map<std::string, Reader> targets = {
       {"obj", [](const std::string& bytes) { fuzz::check_obj_paths_agree(bytes), mesh_reader(read_obj)(bytes); }},
       {"off", [](const std::string& bytes) { fuzz::check_off_paths_agree(bytes), mesh_reader(read_off)(bytes); }},
       {"ply", mesh_reader(read_ply)}, {"stl", mesh_reader(read_stl)},
@@ -60,6 +61,8 @@ TEST(FuzzCorpus, EveryInputIsReadOrRefusedWithAnInputError) {
       {"gltf_draco", [](const std::string& bytes) { fuzz::check_gltf_round_trip(fuzz::draco_glb(bytes)); }},
       {"gltf_meshopt", [](const std::string& bytes) { fuzz::check_gltf_round_trip(fuzz::meshopt_glb(bytes)); }},
       {"script", [](const std::string& text) { parse_script(text, "fuzz.json"); }}};
+  for (const char* format : {"vtu", "vtk", "msh", "su2", "foam"})
+    targets.emplace(format, [format](const std::string& bytes) { fuzz::check_volume_round_trip(format, bytes); });
   std::size_t inputs = 0;
   for (const auto& [name, read] : targets)
     for (const fs::path& path : inputs_of(name)) {
