@@ -166,7 +166,7 @@ std::size_t stage_gltf_images(const std::filesystem::path& target, const Mesh& m
 
 Mesh read_mesh(const std::string& path, bool defer_normals) {
   const MeshFormat format = mesh_format(path);
-  if (const std::optional<VolumeFormat> volume = volume_format(format)) return read_volume_mesh(path, *volume);
+  if (const std::optional<VolumeFormat> volume = volume_format(format)) return read_volume_mesh(path, *volume, defer_normals);
   const FileBytes bytes = read_bytes(path);
   std::string_view text = bytes.view();
   // A text format (and a PLY's header) must be ASCII or UTF-8; a binary STL's 80-byte

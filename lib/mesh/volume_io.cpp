@@ -12,6 +12,7 @@
 
 #include "common/errors.h"
 #include "common/numbers.h"
+#include "mesh/build_mesh.h"
 #include "mesh/foam_io.h"
 #include "mesh/gmsh_io.h"
 #include "mesh/su2_io.h"
@@ -72,11 +73,34 @@ VolumeRead read_volume(const std::string& path, VolumeFormat format) {
 
 }  // namespace
 
-Mesh read_volume_mesh(const std::string& path, VolumeFormat format) {
+namespace {
+
+// A planar mesh (no 3D cell, every z 0: SU2's NDIME=2, a 2D Gmsh mesh) is a surface too:
+// its triangles, quads and polygons become the Mesh's faces, so info, render and previews
+// see them. Lines and points stay the volume file's alone.
+Mesh planar_mesh(const VolumeRead& read, const std::string& path, bool defer_normals) {
+  PolygonSoup soup;
+  soup.positions.reserve(static_cast<std::size_t>(read.points.cols()));
+  for (Eigen::Index i = 0; i < read.points.cols(); ++i) soup.positions.push_back(read.points.col(i));
+  const VolumeCells& cells = read.source.cells;
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const std::uint8_t type = cells.type[c];
+    if (type == cell_type::kTriangle || type == cell_type::kQuad || type == cell_type::kPolygon)
+      soup.elements.add_polygon(std::vector<std::uint32_t>(cells.nodes(c), cells.nodes(c) + cells.degree(c)));
+  }
+  return build_mesh(std::move(soup), path, defer_normals);
+}
+
+}  // namespace
+
+Mesh read_volume_mesh(const std::string& path, VolumeFormat format, bool defer_normals) {
   VolumeRead read = read_volume(path, format);
   if (read.points.cols() == 0) throw InputError(At{path}, "the file has no node");
   Mesh mesh;
-  mesh.set_vertices(std::move(read.points), /*normals=*/false);
+  if (read.source.dimension == 2)
+    mesh = planar_mesh(read, path, defer_normals);
+  else
+    mesh.set_vertices(std::move(read.points), /*normals=*/false);
   mesh.set_source(path);
   mesh.set_volume_source(std::make_shared<const VolumeSource>(std::move(read.source)));
   return mesh;

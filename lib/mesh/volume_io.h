@@ -1,5 +1,6 @@
 // Reading and writing volume meshes (volume_mesh.h) as Meshes: the nodes are the Mesh's
-// vertices, in file order, with no polygons (a point cloud to every warp); the cells,
+// vertices, in file order, with no polygons (a point cloud to every warp; a planar 2D mesh
+// has its triangles and quads as faces); the cells,
 // markers and the file ride along as Mesh::volume_source, and a write patches the file's
 // own bytes with the current positions. mesh_io.h dispatches here by format.
 #pragma once
@@ -20,8 +21,10 @@ namespace ffd {
 /// folder. Empty for anything else (a path without an extension stays a likely typo).
 std::optional<VolumeFormat> volume_format_of(const std::filesystem::path& path);
 
-/// Reads a volume mesh. \throw InputError naming the file and the place.
-Mesh read_volume_mesh(const std::string& path, VolumeFormat format);
+/// Reads a volume mesh. A planar one (VolumeSource::dimension 2) also gets its 2D cells as
+/// the Mesh's faces, with normals unless `defer_normals` (as build_mesh's).
+/// \throw InputError naming the file and the place.
+Mesh read_volume_mesh(const std::string& path, VolumeFormat format, bool defer_normals = false);
 
 /// Checks that `mesh` can be written as `format` at `path`: a volume format needs a mesh
 /// read from that format. \throw InputError naming `path` otherwise.

@@ -153,7 +153,7 @@ Parallelepiped make_box(const Scene& scene, const BoxSpec& box) {
   if (box.kind == BoxSpec::Kind::MinMax) return Parallelepiped::from_min_max(box.min, box.max);
   if (box.kind == BoxSpec::Kind::OriginAxes) return Parallelepiped(box.origin, box.axes);
   std::vector<std::uint32_t> ids;
-  if (box.select) ids = select_vertices(*box.select, scene.mesh.positions());
+  if (box.select) ids = select_vertices(*box.select, scene.mesh.positions(), scene.mesh.volume_source());
   return fit_box(box.fit, scene.mesh.positions(), ids, box.padding);
 }
 
@@ -169,7 +169,7 @@ nlohmann::json box_json(const Parallelepiped& box) {
 Eigen::Matrix3Xd octree_region(Scene& scene, const BoxSpec& box, const std::optional<std::string>& enclose) {
   const auto positions = scene.mesh.positions();
   std::vector<std::uint32_t> ids;
-  if (box.select) ids = select_vertices(*box.select, positions);
+  if (box.select) ids = select_vertices(*box.select, positions, scene.mesh.volume_source());
   std::vector<Eigen::Vector3d> points;
   if (ids.empty())
     for (Eigen::Index v = 0; v < positions.cols(); ++v) points.push_back(positions.col(v));

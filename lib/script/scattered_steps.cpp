@@ -24,7 +24,7 @@ std::vector<Eigen::Vector3d> rest_points(const PointSource& source, const Scene&
   std::vector<Eigen::Vector3d> rest = source.points;
   if (source.select) {
     const auto positions = scene.mesh.positions();
-    for (std::uint32_t v : select_vertices(*source.select, positions)) rest.push_back(positions.col(v));
+    for (std::uint32_t v : select_vertices(*source.select, positions, scene.mesh.volume_source())) rest.push_back(positions.col(v));
   }
   return rest;
 }

@@ -50,7 +50,10 @@ const char* kGrammar = R"json({
          "properties": {"near": {"$ref": "#/$defs/vec3", "description": "The single nearest element (ties: lowest index)."}}},
         {"type": "object", "title": "file", "required": ["file"], "additionalProperties": false,
          "properties": {"file": {"type": "string",
-           "description": "A text file of mesh vertex indices, one per line ('#' comments); relative to the script's folder."}}}
+           "description": "A text file of mesh vertex indices, one per line ('#' comments); relative to the script's folder."}}},
+        {"type": "object", "title": "marker", "required": ["marker"], "additionalProperties": false,
+         "properties": {"marker": {"type": "string", "minLength": 1,
+           "description": "Volume meshes: the nodes of a boundary marker's or physical group's elements, by name (an SU2 MARKER_TAG, a Gmsh physical name or number, an OpenFOAM patch)."}}}
       ]
     },
     "selection": {

@@ -127,7 +127,9 @@ std::string script_reference_markdown() {
         "hand. A test checks that it is current.\n\n"
      << schema["description"].get<std::string>() << " A script is `{\"version\": 1, \"steps\": [...]}`; each step "
      << "is an object whose `op` names one of the ops below. Keys with a default may be left out; `ffdtool validate "
-        "--resolved` prints a script with every default filled in.\n\n## Ops\n\n";
+        "--resolved` prints a script with every default filled in.\n\n";
+  os << "Besides `version`, `steps` and `description`, a script may set `allow_inverted`: "
+     << schema["properties"]["allow_inverted"]["description"].get<std::string>() << "\n\n## Ops\n\n";
   for (const OpInfo* op : op_table()) op_section(*op, os);
   os << "## Types\n\nThe shared grammar the ops' keys refer to.\n\n";
   for (const char* name : {"vec3", "index3", "selection", "selection_part", "transform", "box"})

@@ -51,6 +51,9 @@ SelectionPart read_part(const json& part, const ScriptPlace& place) {
   } else if (part.contains("near")) {
     out.kind = SelectionPart::Kind::Near;
     out.center = vec3(part["near"]);
+  } else if (part.contains("marker")) {
+    out.kind = SelectionPart::Kind::Marker;
+    out.marker = part["marker"].get<std::string>();
   } else {
     out.kind = SelectionPart::Kind::File;
     const std::string file = script_file(part["file"], place.at("/file"), "selection file");

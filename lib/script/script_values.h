@@ -38,7 +38,7 @@ struct ScriptPlace {
 
 /// One part of a selection (docs/script-reference.md, selection_part), read and checked at load time.
 struct SelectionPart {
-  enum class Kind { Indices, Sphere, Box, Near, File };
+  enum class Kind { Indices, Sphere, Box, Near, File, Marker };
   /// An entry of an `indices` list: a mesh vertex, or a lattice index [i, j, k].
   struct Entry {
     bool lattice = false;
@@ -54,6 +54,7 @@ struct SelectionPart {
   Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();
   std::string file;    // as resolved against the script's folder
   std::vector<std::uint32_t> file_vertices;
+  std::string marker;  // a volume mesh's marker or physical group, by name
 };
 
 /// Mesh vertices or lattice points: the union of its parts.

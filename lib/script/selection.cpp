@@ -53,6 +53,7 @@ PointIndex point_index_of(const SelectionPart::Entry& e) { return PointIndex{e.l
 
 const char* kLatticeIndexForVertex = "expected a vertex index, found a lattice index";
 const char* kFileForPoints = "a selection file lists mesh vertices, not lattice points";
+const char* kMarkerForPoints = "a marker names mesh nodes, not lattice points";
 
 std::string point_not_movable(const std::string& text, const std::string& movable) {
   return "point " + text + " is not movable (movable: " + movable + ")";
@@ -71,6 +72,7 @@ void check_entries(const Selection& selection, bool files,
                    const std::function<std::optional<std::string>(const SelectionPart::Entry&)>& problem) {
   for (const SelectionPart& part : selection.parts) {
     if (part.kind == SelectionPart::Kind::File && !files) throw InputError(At{part.place}, kFileForPoints);
+    if (part.kind == SelectionPart::Kind::Marker && !files) throw InputError(At{part.place}, kMarkerForPoints);
     for (std::size_t i = 0; i < part.indices.size(); ++i)
       if (const std::optional<std::string> why = problem(part.indices[i])) throw InputError(At{index_place(part, i)}, *why);
   }
@@ -84,6 +86,23 @@ template <typename T>
 void sort_unique(std::vector<T>& v) {
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// The nodes of the elements of `volume`'s marker `part.marker`, appended to `picked`.
+void pick_marker(const SelectionPart& part, const VolumeSource* volume, std::vector<std::size_t>& picked) {
+  if (!volume)
+    throw InputError(At{part.place + "/marker"}, "a marker selects the nodes of a volume mesh's boundary marker or "
+                                                 "physical group, and this mesh is not a volume mesh");
+  std::string names;
+  for (const VolumeMarker& marker : volume->markers) {
+    names += (names.empty() ? "" : ", ") + marker.name;
+    if (marker.name != part.marker) continue;
+    for (const std::uint64_t c : marker.cells)
+      picked.insert(picked.end(), volume->cells.nodes(c), volume->cells.nodes(c) + volume->cells.degree(c));
+    return;
+  }
+  throw InputError(At{part.place + "/marker"}, "the mesh has no marker '" + part.marker + "' (" +
+                                                   (names.empty() ? "it has none" : "it has " + names) + ")");
 }
 
 }  // namespace
@@ -107,7 +126,8 @@ std::vector<std::uint32_t> read_index_file(const std::string& path) {
 }
 
 std::vector<std::uint32_t> select_vertices(const Selection& selection,
-                                           const Eigen::Ref<const Eigen::Matrix3Xd>& positions) {
+                                           const Eigen::Ref<const Eigen::Matrix3Xd>& positions,
+                                           const VolumeSource* volume) {
   std::vector<std::size_t> picked;
   const std::size_t n = static_cast<std::size_t>(positions.cols());
   for (const SelectionPart& part : selection.parts) {
@@ -124,6 +144,8 @@ std::vector<std::uint32_t> select_vertices(const Selection& selection,
         if (v >= n) throw InputError(At{part.file}, out_of_range(v, n));
         picked.push_back(v);
       }
+    } else if (part.kind == SelectionPart::Kind::Marker) {
+      pick_marker(part, volume, picked);
     } else {
       geometric_pick(part, positions, [](Eigen::Index) { return true; }, picked);
     }
@@ -162,6 +184,8 @@ std::vector<std::size_t> pick_points(const Selection& selection, const PickableP
       }
     } else if (part.kind == SelectionPart::Kind::File) {
       throw InputError(At{part.place}, kFileForPoints);
+    } else if (part.kind == SelectionPart::Kind::Marker) {
+      throw InputError(At{part.place}, kMarkerForPoints);
     } else {
       geometric_pick(part, pick.points, [&](Eigen::Index i) { return pick.movable(static_cast<std::size_t>(i)); }, picked);
     }

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "mesh/volume_mesh.h"
 #include "script/script_checks.h"
 #include "script/script_values.h"
 #include "multires/octree_lattice.h"
@@ -16,11 +17,14 @@
 
 namespace ffd {
 
-/// The mesh vertices (columns of `positions`) `selection` picks, sorted and unique.
+/// The mesh vertices (columns of `positions`) `selection` picks, sorted and unique; a
+/// `marker` part picks the nodes of `volume`'s marker of that name.
 /// \throw InputError (placed at the selection, the part or its file) for an index out of
-/// range, a lattice index given for vertices, or an empty pick.
+/// range, a lattice index given for vertices, a marker the mesh does not have, or an
+/// empty pick.
 std::vector<std::uint32_t> select_vertices(const Selection& selection,
-                                           const Eigen::Ref<const Eigen::Matrix3Xd>& positions);
+                                           const Eigen::Ref<const Eigen::Matrix3Xd>& positions,
+                                           const VolumeSource* volume = nullptr);
 
 /// The movable points of level `level` of a deformer that `selection` picks (by current
 /// position, or by index: [i, j, k] on grids), as point ids, sorted. \throw InputError for

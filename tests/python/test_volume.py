@@ -288,3 +288,63 @@ def test_a_volume_mesh_written_as_a_surface_format_warns_that_the_cells_are_drop
     r = run_cli("run", source, write_json(tmp_path / "s.json", IDENTITY), "-o", tmp_path / "nodes.ply")
     assert r.returncode == 0, r.stderr
     assert "cells" in r.stderr and "are not written" in r.stderr
+
+
+def test_a_lattice_box_fits_a_marker(meshes, run_cli, tmp_path):
+    """{"marker": NAME} picks the nodes of a physical group's elements: the box fitted to
+    the prism layer's floor ("wall", z = 0) is that face's box, padded."""
+    source = corpus.gmsh_mesh(corpus.MIXED_GEO, str(tmp_path), "mixed", "msh41_binary")
+    script = {"version": 1, "steps": [{"op": "lattice", "name": "L", "basis": "bernstein", "cells": [1, 1, 1],
+                                       "box": {"fit": "aabb", "padding": 0, "select": {"marker": "wall"}}}]}
+    r = run_cli("run", source, write_json(tmp_path / "s.json", script), "-o", tmp_path / "out.msh", "--quiet",
+                "--stats", tmp_path / "stats.json")
+    assert r.returncode == 0, r.stderr
+    step = json.load(open(tmp_path / "stats.json"))["steps"][0]
+    box = step["box"]
+    reference = meshio.read(source)
+    wall = np.unique(np.concatenate([reference.cells[i].data.ravel()
+                                     for i in range(len(reference.cells))
+                                     if reference.cells[i].type == "triangle"]))
+    lo = reference.points[wall].min(axis=0)
+    hi = reference.points[wall].max(axis=0)
+    np.testing.assert_allclose(box["origin"][:2], lo[:2], atol=1e-12)  # a flat pick's z gets a sliver
+    np.testing.assert_allclose(np.diag(np.array(box["axes"]))[:2], (hi - lo)[:2], atol=1e-12)
+    assert abs(box["origin"][2]) < 1e-5
+    script["steps"][0]["box"]["select"] = {"marker": "nose"}
+    r = run_cli("run", source, write_json(tmp_path / "bad.json", script), "-o", tmp_path / "out2.msh")
+    assert r.returncode == 2
+    assert "/steps/0/box/select/marker" in r.stderr and "no marker 'nose'" in r.stderr and "wall" in r.stderr
+
+
+def test_a_marker_cannot_name_lattice_points(run_cli, tmp_path):
+    script = moved([0, 0, 0.1])
+    script["steps"][1] = {"op": "move", "lattice": "L", "select": {"marker": "wall"},
+                          "transform": {"translate": [0, 0, 0.1]}}
+    r = run_cli("validate", write_json(tmp_path / "s.json", script))
+    assert r.returncode == 2
+    assert "/steps/1/select" in r.stderr and "a marker names mesh nodes, not lattice points" in r.stderr
+
+
+PLANAR_SU2 = ("NDIME= 2\nNELEM= 2\n5 0 1 2 0\n9 1 3 4 2 1\nNPOIN= 5\n0 0 0\n1 0 1\n0 1 2\n2 0 3\n2 1 4\n"
+              "NMARK= 1\nMARKER_TAG= wall\nMARKER_ELEMS= 2\n3 0 1\n3 1 3\n")
+
+
+def test_a_planar_su2_mesh_is_a_surface_written_back_in_two_dimensions(run_cli, tmp_path):
+    source = tmp_path / "plane.su2"
+    source.write_text(PLANAR_SU2)
+    script = {"version": 1, "steps": [
+        {"op": "lattice", "name": "L", "basis": "bernstein", "cells": [1, 1, 1], "box": {"min": [-1, -1, -1], "max": [3, 2, 1]}},
+        {"op": "move", "lattice": "L", "points": [{"index": [1, 1, 0], "by": [0.5, 0.25, 0]},
+                                                  {"index": [1, 1, 1], "by": [0.5, 0.25, 0]}]}]}
+    r = run_cli("run", source, write_json(tmp_path / "s.json", script), "-o", tmp_path / "out.su2", "--quiet",
+                "--stats", tmp_path / "stats.json")
+    assert r.returncode == 0, r.stderr
+    stats = json.load(open(tmp_path / "stats.json"))
+    assert stats["input"]["faces"] == 2  # the triangle and the quad
+    out = (tmp_path / "out.su2").read_text().splitlines()
+    nodes = out[out.index("NPOIN= 5") + 1:out.index("NPOIN= 5") + 6]
+    assert all(len(line.split()) == 3 for line in nodes), nodes  # x y and the index, as read
+    assert nodes[0] != "0 0 0"
+    assert out[:out.index("NPOIN= 5") + 1] == PLANAR_SU2.splitlines()[:out.index("NPOIN= 5") + 1]
+    r = run_cli("render", tmp_path / "out.su2", "-o", tmp_path / "plane.png", "--size", "64x64")
+    assert r.returncode == 0, r.stderr
