@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs the benchmarks and writes bench_out/bench.json (also printed).
-# Usage: scripts/bench.sh [--suite ffd|remesh|bcm|cholesky|io|pictures|multires|seam|deformers|compare|python|users|all] [--quick]
+# Usage: scripts/bench.sh [--suite ffd|remesh|bcm|cholesky|io|pictures|multires|seam|deformers|compare|python|users|volume|all] [--quick]
 # The io and users suites run Blender side by side when `blender` is on PATH (not a setup.sh
 # package: it is a benchmark peer, ~90 MB); without it those rows say it is missing.
 # The users suite runs PyGeM's FFD beside ffdtool when PYGEM_SOURCE names PyGeM's source

@@ -71,6 +71,22 @@ TEST(CellQuality, AffineMapsScaleVolumesByTheDeterminant) {
   }
 }
 
+// The tetrahedron's own path (one determinant, the extreme edge product) against the
+// general corner loop of its quadratic kind, which reads the same four corners, on
+// random and inverted tetrahedra.
+TEST(CellQuality, TetrahedraMatchTheCornerLoop) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    Eigen::Matrix3Xd p(3, 10);
+    for (int k = 0; k < 10; ++k) p.col(k) = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const CellMeasure fast = measure_cell(one_cell(cell_type::kTetra, 4), 0, p);
+    const CellMeasure loop = measure_cell(one_cell(cell_type::kQuadraticTetra, 10), 0, p);
+    EXPECT_NEAR(fast.scaled_jacobian, loop.scaled_jacobian, 1e-12) << "trial " << trial;
+    EXPECT_NEAR(fast.volume, loop.volume, 1e-12);
+  }
+}
+
 // The same cube as a polyhedron (VTK 42, faces wound outward) measures as the hexahedron.
 TEST(CellQuality, PolyhedronCubeMatchesTheHexahedron) {
   VolumeCells cells;

@@ -137,5 +137,6 @@ void bench_deformers(Context& ctx);
 void bench_compare(Context& ctx);
 void bench_python(Context& ctx);
 void bench_users(Context& ctx);
+void bench_volume(Context& ctx);
 
 }  // namespace ffd::bench

@@ -174,6 +174,24 @@ CellMeasure measure_polyhedron(const VolumeCells& cells, std::size_t c, const Ei
   return m;
 }
 
+// A tetrahedron's scaled Jacobian and volume without the general path's corner loop: every
+// corner's determinant is the same 6V, so the lowest corner is the one whose three edges
+// have the largest product (the smallest, when 6V < 0); √2 is the regular tetrahedron's
+// 1/value. The same numbers as
+// measure_shape's (up to rounding of the division order), at a third of the work.
+void tetra_measure(const Eigen::Matrix3Xd& x, const std::uint32_t* n, double& scaled, double& volume) {
+  const Vec a = x.col(n[0]), e1 = x.col(n[1]) - a, e2 = x.col(n[2]) - a, e3 = x.col(n[3]) - a;
+  const double det = e1.dot(e2.cross(e3));
+  const double l01 = e1.norm(), l02 = e2.norm(), l03 = e3.norm();
+  const double l12 = (e2 - e1).norm(), l13 = (e3 - e1).norm(), l23 = (e3 - e2).norm();
+  const double p0 = l01 * l02 * l03, p1 = l01 * l12 * l13, p2 = l02 * l12 * l23, p3 = l03 * l13 * l23;
+  // The lowest of det / p_k: the largest product for a positive det, the smallest for a
+  // negative one.
+  const double by = det >= 0 ? std::max(std::max(p0, p1), std::max(p2, p3)) : std::min(std::min(p0, p1), std::min(p2, p3));
+  volume = det / 6;
+  scaled = by > 0 ? std::sqrt(2.0) * det / by : 0.0;
+}
+
 // The order of the worst list: lowest scaled Jacobian first, then the lower cell.
 bool worse(const CellMeasure& a, const CellMeasure& b) {
   if (a.scaled_jacobian != b.scaled_jacobian) return a.scaled_jacobian < b.scaled_jacobian;
@@ -201,6 +219,14 @@ void merge(CellQuality& total, CellQuality& part, std::size_t keep) {
 
 CellMeasure measure_cell(const VolumeCells& cells, std::size_t c, const Eigen::Matrix3Xd& positions) {
   if (cells.type[c] == cell_type::kPolyhedron) return measure_polyhedron(cells, c, positions);
+  if (cells.type[c] == cell_type::kTetra) {
+    CellMeasure m;
+    m.cell = c;
+    tetra_measure(positions, cells.nodes(c), m.scaled_jacobian, m.volume);
+    for (int k = 0; k < 4; ++k) m.centroid += positions.col(cells.nodes(c)[k]);
+    m.centroid /= 4;
+    return m;
+  }
   return measure_shape(cells, c, cells.type[c] == 11 ? hexahedron_shape() : *shape_of(cells.type[c]), positions);
 }
 
@@ -217,7 +243,12 @@ CellQuality cell_quality(const VolumeCells& cells, const Eigen::Matrix3Xd& posit
     for (std::int64_t c = b * kBlock; c < std::min(n, (b + 1) * kBlock); ++c) {
       const std::size_t cell = static_cast<std::size_t>(c);
       if (!measured_cell(cells, cell)) continue;
-      const CellMeasure m = measure_cell(cells, cell, positions);
+      CellMeasure m;
+      m.cell = cell;
+      if (cells.type[cell] == cell_type::kTetra)
+        tetra_measure(positions, cells.nodes(cell), m.scaled_jacobian, m.volume);
+      else
+        m = measure_cell(cells, cell, positions);
       ++part.checked;
       if (inverted(m) && !part.inverted++) part.first_inverted = cell;
       part.min_scaled_jacobian = std::min(part.min_scaled_jacobian, m.scaled_jacobian);
@@ -235,6 +266,7 @@ CellQuality cell_quality(const VolumeCells& cells, const Eigen::Matrix3Xd& posit
   }
   CellQuality total;
   for (CellQuality& part : parts) merge(total, part, worst);
+  for (CellMeasure& m : total.worst) m = measure_cell(cells, m.cell, positions);  // with its centroid
   return total;
 }
 

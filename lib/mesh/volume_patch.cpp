@@ -74,20 +74,27 @@ BinaryPoints::BinaryPoints(SharedBytes bytes, std::vector<BinaryBlock> blocks, B
     : bytes_(std::move(bytes)), blocks_(std::move(blocks)), scalar_(scalar), dimension_(dimension) {}
 
 void BinaryPoints::write(std::ostream& os, const Eigen::Matrix3Xd& positions) const {
-  std::string out = *bytes_;  // one copy, patched where nodes moved
+  // The file's bytes go out as they are up to each moved node, then that node's
+  // coordinates: no copy of the whole file.
+  const std::string& bytes = *bytes_;
   const std::size_t size = scalar_.is_double ? 8 : 4;
+  std::uint64_t kept = 0;  // bytes[kept, ...) is not yet written
+  char patched[3 * 8];
   for (const BinaryBlock& block : blocks_)
     for (std::uint64_t j = 0; j < block.count; ++j) {
       const Eigen::Vector3d p = positions.col(static_cast<Eigen::Index>(block.first + j));
-      char* at = out.data() + block.offset + j * block.stride;
+      const std::uint64_t at = block.offset + j * block.stride;
       Eigen::Vector3d stored(0, 0, 0);
-      for (int k = 0; k < dimension_; ++k) stored[k] = read_binary_scalar(at + k * size, scalar_);
+      for (int k = 0; k < dimension_; ++k) stored[k] = read_binary_scalar(bytes.data() + at + k * size, scalar_);
       Eigen::Vector3d compared = p;
       if (dimension_ == 2) compared.z() = 0;
       if (unmoved(compared, stored, !scalar_.is_double)) continue;
-      for (int k = 0; k < dimension_; ++k) write_binary_scalar(at + k * size, p[k], scalar_);
+      for (int k = 0; k < dimension_; ++k) write_binary_scalar(patched + k * size, p[k], scalar_);
+      os.write(bytes.data() + kept, static_cast<std::streamsize>(at - kept));
+      os.write(patched, static_cast<std::streamsize>(dimension_ * size));
+      kept = at + dimension_ * size;
     }
-  os.write(out.data(), static_cast<std::streamsize>(out.size()));
+  os.write(bytes.data() + kept, static_cast<std::streamsize>(bytes.size() - kept));
 }
 
 }  // namespace ffd

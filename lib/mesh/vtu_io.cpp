@@ -104,12 +104,36 @@ int base64_value(char c) { return kBase64Values[static_cast<std::uint8_t>(c)]; }
 // and its data apart), whitespace allowed between characters. Returns the offset in
 // `text` of the first character that is not valid there, or kNone.
 std::size_t decode_base64(std::string_view text, std::string& out) {
-  out.resize(text.size() / 4 * 3);
-  std::size_t size = 0;
+  // Decoded through a small buffer appended to `out` (reserved once): a resize of a
+  // large array would first zero it, page by page.
+  out.clear();
+  out.reserve(text.size() / 4 * 3);
+  char buffer[3 * 4096];
+  std::size_t size = 0;  // bytes in buffer
+  const auto flush = [&](std::size_t room) {
+    if (size + room <= sizeof buffer) return;
+    out.append(buffer, size);
+    size = 0;
+  };
   int group[4];
   std::size_t at[4];
   int n = 0;
   for (std::size_t i = 0; i < text.size(); ++i) {
+    // Whole groups of four plain characters at once (no space, no padding), the bulk of
+    // an array; anything else goes through the character loop below.
+    while (n == 0 && i + 4 <= text.size()) {
+      const int a = base64_value(text[i]), b = base64_value(text[i + 1]);
+      const int c = base64_value(text[i + 2]), d = base64_value(text[i + 3]);
+      if ((a | b | c | d) & ~63) break;
+      const std::uint32_t bits = (a << 18) | (b << 12) | (c << 6) | d;
+      flush(3);
+      buffer[size] = static_cast<char>(bits >> 16);
+      buffer[size + 1] = static_cast<char>((bits >> 8) & 255);
+      buffer[size + 2] = static_cast<char>(bits & 255);
+      size += 3;
+      i += 4;
+    }
+    if (i >= text.size()) break;
     if (is_space(text[i])) continue;
     const int v = base64_value(text[i]);
     if (v < 0 || (v == 64 && n < 2) || (n == 3 && group[2] == 64 && v != 64)) return i;
@@ -118,16 +142,18 @@ std::size_t decode_base64(std::string_view text, std::string& out) {
     if (n < 4) continue;
     const int pads = (group[2] == 64) + (group[3] == 64);
     const std::uint32_t bits = (group[0] << 18) | (group[1] << 12) | ((group[2] & 63) << 6) | (group[3] & 63);
-    out[size++] = static_cast<char>(bits >> 16);
-    if (pads < 2) out[size++] = static_cast<char>((bits >> 8) & 255);
-    if (pads < 1) out[size++] = static_cast<char>(bits & 255);
+    flush(3);
+    buffer[size++] = static_cast<char>(bits >> 16);
+    if (pads < 2) buffer[size++] = static_cast<char>((bits >> 8) & 255);
+    if (pads < 1) buffer[size++] = static_cast<char>(bits & 255);
     n = 0;
   }
-  out.resize(size);
+  out.append(buffer, size);
   return n == 0 ? kNone : at[0];
 }
 
 void encode_base64(std::string_view data, std::string& out) {
+  out.reserve(out.size() + (data.size() + 2) / 3 * 4);
   for (std::size_t i = 0; i < data.size(); i += 3) {
     const std::size_t left = data.size() - i;
     std::uint32_t bits = static_cast<std::uint8_t>(data[i]) << 16;
@@ -229,9 +255,14 @@ void split_appended(Vtu& f) {
   f.xml += "</AppendedData></VTKFile>";
 }
 
+// pugixml leaves text and attribute values as the file has them (no end-of-line or entity
+// conversion): the array texts are the file's bytes at their own offsets, which the
+// writer patches, and a large array is skipped at memchr speed instead of rewritten.
+constexpr unsigned kParseFlags = pugi::parse_minimal | pugi::parse_cdata;
+
 void parse_xml(Vtu& f) {
   const pugi::xml_parse_result r =
-      f.doc.load_buffer_inplace(f.xml.data(), f.xml.size(), pugi::parse_default, pugi::encoding_utf8);
+      f.doc.load_buffer_inplace(f.xml.data(), f.xml.size(), kParseFlags, pugi::encoding_utf8);
   if (!r) fail(f, static_cast<std::size_t>(std::max<std::ptrdiff_t>(r.offset, 0)),
                std::string("not well-formed XML: ") + r.description());
 }
@@ -707,18 +738,19 @@ public:
     }
     const std::string encoded = encode(values);
     const std::int64_t delta = static_cast<std::int64_t>(encoded.size()) - static_cast<std::int64_t>(e_.end - e_.begin);
-    std::string out;
-    out.reserve(bytes_->size() + encoded.size());
-    std::size_t kept = 0;  // bytes_[kept, ...) is not yet copied
+    // Streamed: the file's bytes between the edits go out as they are, without a copy.
+    const auto bytes = [&](std::size_t from, std::size_t to) {
+      os.write(bytes_->data() + from, static_cast<std::streamsize>(to - from));
+    };
+    std::size_t kept = 0;  // bytes_[kept, ...) is not yet written
     for (const AppendedOffset& o : e_.later) {
-      out.append(*bytes_, kept, o.begin - kept);
-      out += std::to_string(static_cast<std::int64_t>(o.value) + delta);
+      bytes(kept, o.begin);
+      os << static_cast<std::int64_t>(o.value) + delta;
       kept = o.end;
     }
-    out.append(*bytes_, kept, e_.begin - kept);
-    out += encoded;
-    out.append(*bytes_, e_.end, std::string::npos);
-    os.write(out.data(), static_cast<std::streamsize>(out.size()));
+    bytes(kept, e_.begin);
+    os.write(encoded.data(), static_cast<std::streamsize>(encoded.size()));
+    bytes(e_.end, bytes_->size());
   }
 
 private:

@@ -42,8 +42,10 @@ struct Scene {
   /// Files written by steps, put in place only when the whole run succeeds.
   std::vector<StagedFile> staged;
   std::vector<std::string> warnings;
-  /// A volume mesh's last guard verdict (script/volume_guard.h), empty before the first.
+  /// A volume mesh's last guard verdict (script/volume_guard.h), empty before the first,
+  /// and the positions it judged (a step that moved no node keeps the verdict).
   std::optional<CellQuality> quality;
+  Eigen::Matrix3Xd quality_positions;
 
   /// Write options that carry file normals through the warp stack.
   WriteOptions write_options() const;

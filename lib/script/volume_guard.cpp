@@ -48,7 +48,11 @@ nlohmann::ordered_json guard_scene(Scene& scene) {
   const VolumeSource* source = scene.mesh.volume_source();
   if (!source) return nullptr;
   Stopwatch clock;
-  scene.quality = cell_quality(source->cells, scene.mesh.position_matrix());
+  const Eigen::Matrix3Xd& positions = scene.mesh.position_matrix();
+  if (!scene.quality || scene.quality_positions != positions) {
+    scene.quality = cell_quality(source->cells, positions);
+    scene.quality_positions = positions;
+  }
   const CellQuality& q = *scene.quality;
   nlohmann::ordered_json worst = nlohmann::ordered_json::array();
   for (const CellMeasure& m : q.worst)

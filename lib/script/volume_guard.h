@@ -17,7 +17,8 @@ struct Scene;
 /// markers with their element counts, and the bounding box. Null for a surface mesh.
 nlohmann::ordered_json volume_stats(const Mesh& mesh);
 
-/// Runs the guard on the scene's mesh at its current positions, keeps the verdict in
+/// Runs the guard on the scene's mesh at its current positions (unless no node moved since
+/// the last run), keeps the verdict in
 /// `scene.quality`, and returns it as stats: inverted_cells, min_scaled_jacobian,
 /// worst_cells (cell, scaled_jacobian, volume, centroid), guard_ms. Null for a surface mesh.
 nlohmann::ordered_json guard_scene(Scene& scene);
