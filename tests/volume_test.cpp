@@ -203,6 +203,12 @@ TEST(Su2Reader, RefusesWithTheLine) {
   EXPECT_EQ(message(bad), "m.su2:22: node index 18 out of range (the file has 9 nodes)");
   const std::string cut = std::string(kSu2).substr(0, std::string(kSu2).find("1 1 0 2"));
   EXPECT_EQ(message(cut), "m.su2:8: the file ends before every node of NPOIN is read");
+  // An empty marker before the one at fault (a fuzzing finding: the line was looked up
+  // through the markers' first cells).
+  bad = kSu2;
+  bad.replace(bad.find("MARKER_ELEMS= 1\n9 0 3 2 1\n"), 26, "MARKER_ELEMS= 0\n");
+  bad.replace(bad.find("5 1 8 2"), 7, "5 1 18 2");
+  EXPECT_EQ(message(bad), "m.su2:21: node index 18 out of range (the file has 9 nodes)");
   EXPECT_EQ(message("NDIME= 3\nNZONE= 2\n"), "m.su2:2: multi-zone SU2 files (NZONE) are not supported; split the zones into files of their own");
   EXPECT_EQ(message("NDIME= 3\nNELEM= 1\n10 0 1 2\n"), "m.su2:3: tetra needs 4 node indices");
   EXPECT_EQ(message("NDIME= 3\nNELEM= 99999999\n"), "m.su2:2: NELEM= 99999999 is more than the rest of the file can hold");

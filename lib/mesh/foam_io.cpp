@@ -132,18 +132,6 @@ bool take_scalar(Cursor& c, double& value) {
   return true;
 }
 
-// A little-endian integer of type T at `at`.
-template <class T>
-T load_le(const char* at) {
-  T value;
-  std::memcpy(&value, at, sizeof value);
-  if constexpr (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__) {
-    char* b = reinterpret_cast<char*>(&value);
-    std::reverse(b, b + sizeof value);
-  }
-  return value;
-}
-
 // ---------------------------------------------------------------------------------------
 // The FoamFile header.
 
@@ -299,7 +287,7 @@ void append_binary_labels(const Cursor& c, std::size_t data, std::uint64_t count
                           std::vector<std::uint32_t>& out) {
   const char* at = c.text.data() + data;
   for (std::uint64_t i = 0; i < count; ++i, at += size) {
-    const std::int64_t v = size == 4 ? load_le<std::int32_t>(at) : load_le<std::int64_t>(at);
+    const std::int64_t v = size == 4 ? load_bytes<std::int32_t>(at, swapped_order(false)) : load_bytes<std::int64_t>(at, swapped_order(false));
     if (v < 0 || static_cast<std::uint64_t>(v) > kMaxLabel)
       throw InputError(At{c.byte(data + i * size)}, "label " + std::to_string(v) + " is " +
                        (v < 0 ? "negative" : "too large (at most 4294967295)"));
@@ -792,7 +780,7 @@ FoamFiles split_foam_bundle(std::string_view bundle) {
     const std::string where = "foam bundle: byte " + std::to_string(at);
     if (bundle.size() - at < 8)
       throw InputError(At{where}, std::string("the size of ") + kFileNames[i] + " is cut short");
-    const std::uint64_t size = load_le<std::uint64_t>(bundle.data() + at);
+    const std::uint64_t size = load_bytes<std::uint64_t>(bundle.data() + at, swapped_order(false));
     at += 8;
     if (size > bundle.size() - at)
       throw InputError(At{where}, std::string(kFileNames[i]) + " has " + std::to_string(size) + " bytes, but " +

@@ -8,25 +8,12 @@
 
 #include "common/errors.h"
 #include "common/numbers.h"
+#include "mesh/volume_patch.h"
 
 namespace ffd::msh {
 namespace {
 
 bool space(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t' || c == '\v' || c == '\f'; }
-
-// A T stored at `at`, byte-swapped when the file's order is not this machine's.
-template <class T>
-T load(const char* at, bool swap) {
-  T value;
-  std::memcpy(&value, at, sizeof value);
-  if (swap) {
-    char bytes[sizeof value];
-    std::memcpy(bytes, &value, sizeof value);
-    std::reverse(bytes, bytes + sizeof value);
-    std::memcpy(&value, bytes, sizeof value);
-  }
-  return value;
-}
 
 }  // namespace
 
@@ -100,7 +87,7 @@ void Cursor::need(std::uint64_t bytes, const char* what) {
 std::int32_t Cursor::int32(const char* what) {
   need(4, what);
   pos += 4;
-  return load<std::int32_t>(text_.data() + pos - 4, swap);
+  return load_bytes<std::int32_t>(text_.data() + pos - 4, swap);
 }
 
 std::uint64_t Cursor::size_value(const char* what) {
@@ -126,13 +113,13 @@ void Cursor::skip_real(const char* what) {
   }
 }
 
-std::int32_t Cursor::load_int32(const char* at) const { return load<std::int32_t>(at, swap); }
+std::int32_t Cursor::load_int32(const char* at) const { return load_bytes<std::int32_t>(at, swap); }
 
 std::uint64_t Cursor::load_size(const char* at) const {
-  return size_bytes == 8 ? load<std::uint64_t>(at, swap) : load<std::uint32_t>(at, swap);
+  return size_bytes == 8 ? load_bytes<std::uint64_t>(at, swap) : load_bytes<std::uint32_t>(at, swap);
 }
 
-double Cursor::load_real(const char* at) const { return load<double>(at, swap); }
+double Cursor::load_real(const char* at) const { return load_bytes<double>(at, swap); }
 
 // ---- Cursor: errors ----
 

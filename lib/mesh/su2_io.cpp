@@ -132,6 +132,7 @@ struct Su2State {
   VolumeRead read;
   std::vector<std::uint64_t> spans;
   std::vector<std::size_t> marker_lines;  // where each marker's MARKER_TAG= is
+  std::vector<std::size_t> marker_first;  // the cell each marker's elements start at
 };
 
 // NPOIN's nodes: `dimension` numbers each, then an optional index. Records each node's
@@ -170,6 +171,7 @@ void read_markers(Su2Lines& lines, std::size_t count, std::size_t limit, Su2Stat
     if (!keyword(line, "MARKER_TAG", name)) lines.fail("expected MARKER_TAG= here");
     if (name.empty()) lines.fail("MARKER_TAG= needs a name");
     state.marker_lines.push_back(lines.number());
+    state.marker_first.push_back(source.cells.size());
     const std::size_t elements = read_count(lines, lines.expect("MARKER_ELEMS="), "MARKER_ELEMS", limit);
     VolumeMarker marker{std::string(name), state.dimension - 1, {}};
     marker.cells.reserve(elements);
@@ -245,9 +247,9 @@ void check_node_indices(std::string_view text, const std::string& path, const Su
       if (c < state.volume_cells) {
         line = element_line(text, path, state.elements_line, c);
       } else {
-        std::size_t m = 0;  // the marker holding cell c: its elements follow its two header lines
-        while (m + 1 < state.read.source.markers.size() && state.read.source.markers[m + 1].cells.front() <= c) ++m;
-        line = element_line(text, path, state.marker_lines[m] + 1, c - state.read.source.markers[m].cells.front());
+        std::size_t m = 0;  // the marker holding cell c (markers may be empty): its elements follow its header
+        while (m + 1 < state.marker_first.size() && state.marker_first[m + 1] <= c) ++m;
+        line = element_line(text, path, state.marker_lines[m] + 1, c - state.marker_first[m]);
       }
       throw InputError(At{place(path, line)}, "node index " + std::to_string(id) + " out of range (the file has " +
                                                   std::to_string(nodes) + " nodes)");

@@ -35,39 +35,17 @@ void TextPoints::write(std::ostream& os, const Eigen::Matrix3Xd& positions) cons
   flush();
 }
 
-namespace {
-
-constexpr bool kNativeBigEndian = __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__;
-
-template <class T>
-T load(const char* at, bool big_endian) {
-  T value;
-  std::memcpy(&value, at, sizeof value);
-  if (big_endian != kNativeBigEndian) {
-    char* b = reinterpret_cast<char*>(&value);
-    std::reverse(b, b + sizeof value);
-  }
-  return value;
-}
-
-template <class T>
-void store(char* at, T value, bool big_endian) {
-  char* b = reinterpret_cast<char*>(&value);
-  if (big_endian != kNativeBigEndian) std::reverse(b, b + sizeof value);
-  std::memcpy(at, b, sizeof value);
-}
-
-}  // namespace
-
 double read_binary_scalar(const char* at, BinaryScalar scalar) {
-  return scalar.is_double ? load<double>(at, scalar.big_endian) : load<float>(at, scalar.big_endian);
+  const bool swap = swapped_order(scalar.big_endian);
+  return scalar.is_double ? load_bytes<double>(at, swap) : load_bytes<float>(at, swap);
 }
 
 void write_binary_scalar(char* at, double x, BinaryScalar scalar) {
+  const bool swap = swapped_order(scalar.big_endian);
   if (scalar.is_double)
-    store<double>(at, x, scalar.big_endian);
+    store_bytes<double>(at, x, swap);
   else
-    store<float>(at, static_cast<float>(x), scalar.big_endian);
+    store_bytes<float>(at, static_cast<float>(x), swap);
 }
 
 BinaryPoints::BinaryPoints(SharedBytes bytes, std::vector<BinaryBlock> blocks, BinaryScalar scalar, int dimension)

@@ -3,7 +3,9 @@
 // are encoded further (a VTU's base64 or zlib blocks) write their own VolumeFile.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "mesh/volume_mesh.h"
@@ -26,6 +28,31 @@ private:
   int dimension_;
   Eigen::Matrix3Xd as_read_;
 };
+
+/// Whether a file's numbers in big-endian (else little-endian) order need their bytes
+/// reversed on this machine.
+inline bool swapped_order(bool big_endian) { return big_endian != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__); }
+
+/// A T stored at `at` (any alignment), its bytes reversed when `swap`: what every binary
+/// volume reader reads numbers with.
+template <class T>
+T load_bytes(const char* at, bool swap) {
+  char b[sizeof(T)];
+  std::memcpy(b, at, sizeof b);
+  if (swap) std::reverse(b, b + sizeof b);
+  T value;
+  std::memcpy(&value, b, sizeof value);
+  return value;
+}
+
+/// Stores `value` at `at`, its bytes reversed when `swap`.
+template <class T>
+void store_bytes(char* at, T value, bool swap) {
+  char b[sizeof(T)];
+  std::memcpy(b, &value, sizeof b);
+  if (swap) std::reverse(b, b + sizeof b);
+  std::memcpy(at, b, sizeof b);
+}
 
 /// How a binary file stores one coordinate.
 struct BinaryScalar {

@@ -101,7 +101,7 @@ std::string read_header(Legacy& f) {
   const std::size_t dot = version.find('.');
   long long major = 0, minor = 0;
   if (dot == kNone || !parse_integer(version.substr(0, dot), major) || !parse_integer(version.substr(dot + 1), minor) ||
-      major < 1 || minor < 0 || major * 100 + minor > 501)
+      major < 1 || major > 5 || minor < 0 || minor > 99 || major * 100 + minor > 501)
     fail(f, 0, "legacy VTK version '" + std::string(version) + "' is not supported (ffdtool reads 1.0 to 5.1)");
   next_line(f);  // the title
   const std::size_t format_at = f.pos;

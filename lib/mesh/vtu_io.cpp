@@ -47,37 +47,19 @@ std::size_t scalar_size(Scalar t) { return kScalars[static_cast<int>(t)].size; }
 std::string_view scalar_name(Scalar t) { return kScalars[static_cast<int>(t)].name; }
 bool is_float(Scalar t) { return t == Scalar::Float32 || t == Scalar::Float64; }
 
-template <class T>
-T load(const char* at, bool swap) {
-  T value;
-  std::memcpy(&value, at, sizeof value);
-  if (swap) {
-    char* b = reinterpret_cast<char*>(&value);
-    std::reverse(b, b + sizeof value);
-  }
-  return value;
-}
-
-template <class T>
-void store(char* at, T value, bool swap) {
-  char* b = reinterpret_cast<char*>(&value);
-  if (swap) std::reverse(b, b + sizeof value);
-  std::memcpy(at, b, sizeof value);
-}
-
 // An integer of type t at `at`; a UInt64 above int64's range reads as its maximum, which
 // every range check refuses.
 std::int64_t load_integer(const char* at, Scalar t, bool swap) {
   switch (t) {
-    case Scalar::Int8: return load<std::int8_t>(at, false);
-    case Scalar::UInt8: return load<std::uint8_t>(at, false);
-    case Scalar::Int16: return load<std::int16_t>(at, swap);
-    case Scalar::UInt16: return load<std::uint16_t>(at, swap);
-    case Scalar::Int32: return load<std::int32_t>(at, swap);
-    case Scalar::UInt32: return load<std::uint32_t>(at, swap);
-    case Scalar::Int64: return load<std::int64_t>(at, swap);
+    case Scalar::Int8: return load_bytes<std::int8_t>(at, false);
+    case Scalar::UInt8: return load_bytes<std::uint8_t>(at, false);
+    case Scalar::Int16: return load_bytes<std::int16_t>(at, swap);
+    case Scalar::UInt16: return load_bytes<std::uint16_t>(at, swap);
+    case Scalar::Int32: return load_bytes<std::int32_t>(at, swap);
+    case Scalar::UInt32: return load_bytes<std::uint32_t>(at, swap);
+    case Scalar::Int64: return load_bytes<std::int64_t>(at, swap);
     default: {
-      const std::uint64_t v = load<std::uint64_t>(at, swap);
+      const std::uint64_t v = load_bytes<std::uint64_t>(at, swap);
       return v > static_cast<std::uint64_t>(INT64_MAX) ? INT64_MAX : static_cast<std::int64_t>(v);
     }
   }
@@ -406,7 +388,7 @@ struct Stored {
 
 std::uint64_t header_number(std::string_view s, std::size_t i, const Layout& l) {
   const char* at = s.data() + i * l.header_size;
-  return l.header_size == 8 ? load<std::uint64_t>(at, l.swap) : load<std::uint32_t>(at, l.swap);
+  return l.header_size == 8 ? load_bytes<std::uint64_t>(at, l.swap) : load_bytes<std::uint32_t>(at, l.swap);
 }
 
 // zlib blocks after their header in `s`: inflated into st.inflated; returns the bytes used.
@@ -773,9 +755,9 @@ private:
   void put_number(std::string& out, std::uint64_t x) const {
     char b[8];
     if (e_.layout.header_size == 8)
-      store<std::uint64_t>(b, x, e_.layout.swap);
+      store_bytes<std::uint64_t>(b, x, e_.layout.swap);
     else
-      store<std::uint32_t>(b, static_cast<std::uint32_t>(x), e_.layout.swap);
+      store_bytes<std::uint32_t>(b, static_cast<std::uint32_t>(x), e_.layout.swap);
     out.append(b, e_.layout.header_size);
   }
 
