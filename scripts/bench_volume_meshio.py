@@ -5,10 +5,11 @@
 Makes a tetrahedral mesh of the unit cube on an N^3 grid of nodes (each grid cube split
 into Kuhn's six tetrahedra, all positively oriented; N = 100: 1M nodes, 5.8M tets), the
 nodes jittered a little so no coordinate is round, and writes it with meshio as
-FOLDER/tets.vtu (binary, base64 without compression), FOLDER/tets.msh (MSH 4.1 binary)
-and FOLDER/tets.su2 (ASCII). Then, per file, times meshio reading it and writing it
-back (its points and cells) in the same format (FOLDER/meshio_out.EXT), and prints:
-{"nodes": ..., "cells": ..., "meshio": {"vtu": {"read_ms": ..., "write_ms": ...}, ...}}.
+FOLDER/tets.vtu (binary, base64 without compression), FOLDER/tets_zlib.vtu (meshio's
+default binary VTU: zlib blocks), FOLDER/tets.msh (MSH 4.1 binary) and FOLDER/tets.su2
+(ASCII). Then, per file, times meshio reading it and writing it back (its points and
+cells) in the same format, and prints one JSON object:
+{"nodes": ..., "cells": ..., "meshio": {"vtu": {"file": ..., "read_ms": ..., "write_ms": ..., "bytes": ...}, ...}}.
 """
 import json
 import os
@@ -18,9 +19,11 @@ import time
 import meshio
 import numpy as np
 
-FORMATS = {"vtu": {"file_format": "vtu", "binary": True, "compression": None},
-           "msh": {"file_format": "gmsh", "binary": True},
-           "su2": {"file_format": "su2"}}
+# name -> (file, meshio's writer options)
+FORMATS = {"vtu": ("tets.vtu", {"file_format": "vtu", "binary": True, "compression": None}),
+           "vtu_zlib": ("tets_zlib.vtu", {"file_format": "vtu", "binary": True, "compression": "zlib"}),
+           "msh": ("tets.msh", {"file_format": "gmsh", "binary": True}),
+           "su2": ("tets.su2", {"file_format": "su2"})}
 
 
 def tet_grid(n):
@@ -46,19 +49,20 @@ def main():
     points, tets = tet_grid(n)
     mesh = meshio.Mesh(points, [("tetra", tets.astype(np.int64))])
     result = {"nodes": len(points), "cells": len(tets), "meshio": {}}
-    for ext, options in FORMATS.items():
-        path = os.path.join(folder, "tets." + ext)
+    for name, (file, options) in FORMATS.items():
+        path = os.path.join(folder, file)
+        out = os.path.join(folder, "meshio_out_" + file)
         meshio.write(path, mesh, **options)
         start = time.perf_counter()
         read = meshio.read(path)
         middle = time.perf_counter()
         # Points and cells only: meshio 7.0 cannot write back the MSH 4.1 it read (its
         # entities' tags go missing), and the other formats carry nothing more here.
-        meshio.write(os.path.join(folder, "meshio_out." + ext), meshio.Mesh(read.points, read.cells), **options)
+        meshio.write(out, meshio.Mesh(read.points, read.cells), **options)
         end = time.perf_counter()
-        result["meshio"][ext] = {"read_ms": 1e3 * (middle - start), "write_ms": 1e3 * (end - middle),
-                                 "bytes": os.path.getsize(path)}
-        os.remove(os.path.join(folder, "meshio_out." + ext))
+        result["meshio"][name] = {"file": file, "read_ms": 1e3 * (middle - start), "write_ms": 1e3 * (end - middle),
+                                  "bytes": os.path.getsize(path)}
+        os.remove(out)
     print(json.dumps(result))
 
 

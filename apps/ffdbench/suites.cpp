@@ -29,7 +29,7 @@ const std::vector<Suite>& suites() {
       {"users", "what a command-line user pays per `ffdtool run` (wall, peak RSS, the stats' steps) against Blender's "
                 "job and Lattice modifier, PyGeM's FFD (PYGEM_SOURCE), octree moves and bcm frames",
        bench_users},
-      {"volume", "volume meshes: `ffdtool run` on a 1M-node tetrahedral mesh in VTU, MSH 4.1 and SU2 (read, FFD, "
+      {"volume", "volume meshes: `ffdtool run` on a 1M-node tetrahedral mesh in VTU (base64, zlib), MSH 4.1 and SU2 (read, FFD, "
                  "guard, write, peak bytes per node) against meshio reading and writing the same files",
        bench_volume},
   };
