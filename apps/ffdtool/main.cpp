@@ -76,9 +76,10 @@ void print_gltf_info(const ffd::GltfSummary& g) {
 }
 
 // `info` on a volume mesh: its facts (script/volume_guard.h) and the guard's verdict.
-int volume_info(const ffd::Mesh& mesh, const std::string& path, bool as_json) {
+int volume_info(ffd::Mesh read, const std::string& path, bool as_json) {
   ffd::Scene scene;
-  scene.mesh = mesh.clone();
+  scene.mesh = std::move(read);
+  const ffd::Mesh& mesh = scene.mesh;
   const nlohmann::ordered_json facts = ffd::volume_stats(scene.mesh);
   const nlohmann::ordered_json guard = ffd::guard_scene(scene);
   if (as_json) {
@@ -109,8 +110,8 @@ int volume_info(const ffd::Mesh& mesh, const std::string& path, bool as_json) {
 }
 
 int command_info(const std::string& path, bool as_json) {
-  const ffd::Mesh mesh = ffd::read_mesh(path);
-  if (mesh.volume_source()) return volume_info(mesh, path, as_json);
+  ffd::Mesh mesh = ffd::read_mesh(path);
+  if (mesh.volume_source()) return volume_info(std::move(mesh), path, as_json);
   const ffd::MeshInfo info = ffd::mesh_info(mesh);
   const bool gltf = mesh.gltf_scene() != nullptr;
   if (as_json) {
