@@ -33,7 +33,8 @@ std::string slurp(const fs::path& path) {
   return ss.str();
 }
 
-SharedBytes shared(std::string bytes) { return std::make_shared<const std::string>(std::move(bytes)); }
+SharedBytes shared(std::string bytes) { return std::make_shared<const FileBytes>(std::move(bytes)); }
+std::string text_of(const SharedBytes& bytes) { return std::string(bytes->view()); }
 
 FoamFiles files_of(const fs::path& folder) {
   return {shared(slurp(folder / "points")), shared(slurp(folder / "faces")), shared(slurp(folder / "owner")),
@@ -121,7 +122,7 @@ std::string refusal(const FoamFiles& files) {
 FoamFiles edited(FoamFiles files, int which, const std::string& from, const std::string& to,
                  std::size_t after = 0) {
   SharedBytes* slots[5] = {&files.points, &files.faces, &files.owner, &files.neighbour, &files.boundary};
-  std::string text = **slots[which];
+  std::string text = text_of(*slots[which]);
   const std::size_t at = text.find(from, after);
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) text.replace(at, from.size(), to);
@@ -213,7 +214,7 @@ TEST(FoamRead, Float32PointsAreReadAndWrittenAsFloats) {
   const VolumeRead again = read_foam_files({shared(written(r, moved)), files.faces, files.owner, files.neighbour,
                                             files.boundary}, "f32");
   EXPECT_EQ(again.points(1, 4), static_cast<double>(0.0123456789f));
-  EXPECT_EQ(written(r, r.points), *files.points);
+  EXPECT_EQ(written(r, r.points), text_of(files.points));
 }
 
 TEST(FoamWrite, PositionsAsReadGiveTheSameBytes) {
@@ -281,7 +282,7 @@ TEST(FoamRefuse, MissingAndCompressedFilesByName) {
 
 TEST(FoamRefuse, AsciiErrorsNameTheFileAndLine) {
   const FoamFiles files = files_of(kVolume / "cavity_ascii");
-  const std::string& faces = *files.faces;
+  const std::string& faces = text_of(files.faces);
   const std::size_t face0 = faces.find("4(1 6 26 21)");  // the +x face of cell 0
   const std::string l = std::to_string(line_at(faces, face0));
   EXPECT_EQ(refusal(edited(files, 1, "4(1 6 26 21)", "4(1 99 26 21)")),
@@ -290,7 +291,7 @@ TEST(FoamRefuse, AsciiErrorsNameTheFileAndLine) {
             "cav/faces:" + l + ": face 0 has 2 points (a face needs 3 or more)");
   EXPECT_EQ(refusal(edited(files, 1, "4(1 6 26 21)", "4(1 x 26 21)")),
             "cav/faces:" + l + ": expected a label (0 to 4294967295) in the face's point labels, found 'x'");
-  const std::string& owner = *files.owner;
+  const std::string& owner = text_of(files.owner);
   const std::string count_line = std::to_string(line_at(owner, owner.find("\n98\n") + 1));
   EXPECT_EQ(refusal(edited(edited(files, 2, "\n98\n", "\n97\n"), 2, "\n23\n)", "\n)")),
             "cav/owner:" + count_line + ": owner has 97 labels, but faces has 98 faces (one label per face)");
@@ -299,14 +300,14 @@ TEST(FoamRefuse, AsciiErrorsNameTheFileAndLine) {
             "cav/owner:" + std::to_string(line_at(owner, close) ) + ": expected ')' after 97 owner labels, found '23'");
   EXPECT_EQ(refusal(edited(files, 2, "\n98\n(", "\n98{0}\n#")),
             "cav/owner:" + count_line + ": uniform lists 'N{value}' are not supported");
-  const std::string& neighbour = *files.neighbour;
+  const std::string& neighbour = text_of(files.neighbour);
   const std::size_t first = neighbour.find("\n(\n") + 3;
   EXPECT_EQ(refusal(edited(files, 3, "\n1\n", "\n0\n", first - 1)),
             "cav/neighbour:" + std::to_string(line_at(neighbour, first)) + ": face 0 has cell 0 on both sides");
   EXPECT_EQ(refusal(edited(files, 3, "\n1\n", "\n500\n", first - 1)),
             "cav/neighbour:" + std::to_string(line_at(neighbour, first)) +
                 ": cell 500 out of range (owner and neighbour name 144 face sides, so at most 144 cells)");
-  const std::string& boundary = *files.boundary;
+  const std::string& boundary = text_of(files.boundary);
   EXPECT_EQ(refusal(edited(files, 4, "nFaces          24;", "nFaces          23;")),
             "cav/boundary:" + std::to_string(line_at(boundary, boundary.find("\n3\n") + 1)) +
                 ": the patches end at face 97, but the mesh has 98 faces (each boundary face is in a patch)");
@@ -316,13 +317,13 @@ TEST(FoamRefuse, AsciiErrorsNameTheFileAndLine) {
   EXPECT_EQ(refusal(edited(files, 0, "FoamFile", "FoamFil")),
             "cav/points:8: expected the FoamFile header, found 'FoamFil'");
   EXPECT_EQ(refusal(edited(files, 0, "(0 0 0)", "(0 0 nan)")),
-            "cav/points:" + std::to_string(line_at(*files.points, files.points->find("(0 0 0)"))) +
+            "cav/points:" + std::to_string(line_at(text_of(files.points), files.points->view().find("(0 0 0)"))) +
                 ": expected coordinate 2 of point 0 (a finite number), found 'nan'");
 }
 
 TEST(FoamRefuse, CompactFaceOffsetsNameTheirLine) {
   const FoamFiles files = split_foam_bundle(slurp(kSeeds / "ascii_compact_2x1x1"));
-  const std::string& faces = *files.faces;
+  const std::string& faces = text_of(files.faces);
   const std::size_t eight = faces.find("\n4\n8\n") + 3;
   EXPECT_EQ(refusal(edited(files, 1, "\n4\n8\n", "\n4\n6\n")),
             "cav/faces:" + std::to_string(line_at(faces, eight)) + ": face 1 has 2 points (a face needs 3 or more)");
@@ -332,26 +333,26 @@ TEST(FoamRefuse, CompactFaceOffsetsNameTheirLine) {
 
 TEST(FoamRefuse, BinaryErrorsNameTheFileAndByte) {
   const FoamFiles files = files_of(kVolume / "cavity_binary");
-  const std::string& points = *files.points;
+  const std::string& points = text_of(files.points);
   const std::size_t data = data_start(points, "60");
   FoamFiles cut = files;
   cut.points = shared(points.substr(0, data + 100));
   EXPECT_EQ(refusal(cut), "cav/points: byte " + std::to_string(data) +
                               ": truncated binary list: 60 points need 60 x 24 bytes and ')', 100 bytes are left");
-  std::string owner = *files.owner;
+  std::string owner = text_of(files.owner);
   const std::size_t labels = data_start(owner, "98");
   owner.replace(labels + 8, 4, std::string("\xff\xff\xff\xff", 4));
   FoamFiles bad = files;
   bad.owner = shared(owner);
   EXPECT_EQ(refusal(bad), "cav/owner: byte " + std::to_string(labels + 8) + ": label -1 is negative");
-  std::string faces = *files.faces;
+  std::string faces = text_of(files.faces);
   const std::size_t values = data_start(faces, "392");
   faces.replace(values + 4 * 5, 4, std::string("\x3c\0\0\0", 4));
   bad = files;
   bad.faces = shared(faces);
   EXPECT_EQ(refusal(bad),
             "cav/faces: byte " + std::to_string(values + 20) + ": label 60 out of range (the mesh has 60 points)");
-  faces = *files.faces;
+  faces = text_of(files.faces);
   faces[values - 1 + 392 * 4 + 1] = ' ';
   bad.faces = shared(faces);
   EXPECT_EQ(refusal(bad), "cav/faces: byte " + std::to_string(values + 392 * 4) +

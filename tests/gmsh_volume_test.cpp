@@ -26,7 +26,7 @@ std::string read_data_file(const std::string& name) {
 }
 
 VolumeRead read_text(const std::string& text, const std::string& path = "t.msh") {
-  return read_msh(std::make_shared<const std::string>(text), path);
+  return read_msh(std::make_shared<const FileBytes>(std::string(text)), path);
 }
 
 std::string write(const VolumeRead& read, const Eigen::Matrix3Xd& positions) {

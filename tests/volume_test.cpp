@@ -148,7 +148,7 @@ const char kSu2[] =
     "5 1 8 2\n"
     "FFD_NBOX= 0\n";
 
-VolumeRead su2(const std::string& text) { return read_su2(std::make_shared<const std::string>(text), "m.su2"); }
+VolumeRead su2(const std::string& text) { return read_su2(std::make_shared<const FileBytes>(std::string(text)), "m.su2"); }
 
 std::string written(const VolumeRead& read, const Eigen::Matrix3Xd& positions) {
   std::ostringstream os;

@@ -20,7 +20,7 @@ std::string slurp(const std::string& name) {
 bool is_vtu(const std::string& name) { return name.size() > 4 && name.substr(name.size() - 4) == ".vtu"; }
 
 VolumeRead read_text(const std::string& text, const std::string& name) {
-  auto bytes = std::make_shared<const std::string>(text);
+  auto bytes = std::make_shared<const FileBytes>(std::string(text));
   return is_vtu(name) ? read_vtu(bytes, name) : read_vtk_legacy(bytes, name);
 }
 

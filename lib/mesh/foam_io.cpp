@@ -447,7 +447,7 @@ void read_compact_faces(Cursor& c, const Header& h, std::uint64_t points, Faces&
   f.offset.assign(offsets.begin(), offsets.end());
 }
 
-Faces read_faces(const std::string& bytes, const std::string& file, std::uint64_t points) {
+Faces read_faces(std::string_view bytes, const std::string& file, std::uint64_t points) {
   Cursor c{bytes, &file};
   const Header h = read_header(c);
   Faces f;
@@ -468,7 +468,7 @@ struct Sides {
   std::uint64_t cells = 0;  // max(owner, neighbour) + 1
 };
 
-ListAt read_label_file(const std::string& bytes, const std::string& file, const char* what,
+ListAt read_label_file(std::string_view bytes, const std::string& file, const char* what,
                        std::vector<std::uint32_t>& out) {
   Cursor c{bytes, &file};
   const Header h = read_header(c);
@@ -486,7 +486,7 @@ void check_cell_labels(const std::vector<std::uint32_t>& cells, const ListAt& at
                        " face sides, so at most " + std::to_string(bound) + " cells)");
 }
 
-Sides read_sides(const std::string& owner, const std::string& neighbour, const std::string names[5],
+Sides read_sides(std::string_view owner, std::string_view neighbour, const std::string names[5],
                  std::uint64_t faces) {
   Sides s;
   const ListAt oat = read_label_file(owner, names[2], "owner labels", s.owner);
@@ -580,7 +580,7 @@ Patch read_patch(Cursor& c, std::uint64_t index) {
 }
 
 // The patches, which cover the boundary faces (internal..faces) in order, one after another.
-std::vector<Patch> read_boundary(const std::string& bytes, const std::string& file, std::uint64_t faces,
+std::vector<Patch> read_boundary(std::string_view bytes, const std::string& file, std::uint64_t faces,
                                  std::uint64_t internal) {
   Cursor c{bytes, &file};
   read_header(c);
@@ -693,18 +693,6 @@ void build_cells(const Faces& faces, const Sides& s, const std::vector<Patch>& p
 // ---------------------------------------------------------------------------------------
 // The folder.
 
-SharedBytes read_whole_file(const fs::path& path) {
-  std::ifstream is(path, std::ios::binary);
-  if (!is) throw InputError(At{path.string()}, "cannot open for reading");
-  is.seekg(0, std::ios::end);
-  const std::streamoff size = is.tellg();
-  is.seekg(0, std::ios::beg);
-  std::string bytes(size > 0 ? static_cast<std::size_t>(size) : 0, '\0');
-  if (!is.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
-    throw IoError(At{path.string()}, "cannot read");
-  return std::make_shared<const std::string>(std::move(bytes));
-}
-
 // The folder's files other than the five, relative to it, '/'-separated, sorted.
 std::vector<std::string> companion_files(const fs::path& folder) {
   std::vector<std::string> paths;
@@ -726,7 +714,7 @@ std::vector<std::string> companion_files(const fs::path& folder) {
 SharedBytes read_mesh_file(const fs::path& folder, const char* name) {
   const fs::path path = folder / name;
   std::error_code ec;
-  if (fs::is_regular_file(path, ec)) return read_whole_file(path);
+  if (fs::is_regular_file(path, ec)) return read_shared_file_bytes(path.string());
   fs::path gz = path;
   gz += ".gz";
   if (fs::exists(gz, ec))
@@ -785,7 +773,7 @@ FoamFiles split_foam_bundle(std::string_view bundle) {
     if (size > bundle.size() - at)
       throw InputError(At{where}, std::string(kFileNames[i]) + " has " + std::to_string(size) + " bytes, but " +
                        std::to_string(bundle.size() - at) + " are left");
-    *slots[i] = std::make_shared<const std::string>(bundle.substr(at, size));
+    *slots[i] = std::make_shared<const FileBytes>(std::string(bundle.substr(at, size)));
     at += size;
   }
   if (at != bundle.size())

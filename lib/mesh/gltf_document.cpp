@@ -6,6 +6,7 @@
 #include <sstream>
 #include <nlohmann/json.hpp>
 
+#include "common/base64.h"
 #include "common/errors.h"
 
 namespace ffd {
@@ -305,17 +306,8 @@ void write_glb(std::ostream& os, const std::string& json, const std::vector<unsi
 }
 
 std::string data_uri(const unsigned char* p, std::size_t n, const std::string& mime) {
-  static const char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out = "data:" + mime + ";base64,";
-  out.reserve(out.size() + (n + 2) / 3 * 4);
-  for (std::size_t i = 0; i < n; i += 3) {
-    const std::uint32_t v = (std::uint32_t(p[i]) << 16) | (i + 1 < n ? std::uint32_t(p[i + 1]) << 8 : 0) |
-                            (i + 2 < n ? std::uint32_t(p[i + 2]) : 0);
-    out += digits[(v >> 18) & 63];
-    out += digits[(v >> 12) & 63];
-    out += i + 1 < n ? digits[(v >> 6) & 63] : '=';
-    out += i + 2 < n ? digits[v & 63] : '=';
-  }
+  append_base64(std::string_view(reinterpret_cast<const char*>(p), n), out);
   return out;
 }
 

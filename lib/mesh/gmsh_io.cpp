@@ -359,7 +359,7 @@ std::vector<VolumeMarker> make_markers(MshMesh& mesh) {
 }
 
 // For a planar mesh only x and y are rewritten: each text span ends at its y.
-void spans_to_y(const std::string& text, std::vector<std::uint64_t>& spans) {
+void spans_to_y(std::string_view text, std::vector<std::uint64_t>& spans) {
   for (std::size_t i = 1; i < spans.size(); i += 2) {
     std::uint64_t end = spans[i];
     while (end > spans[i - 1] && !std::isspace(static_cast<unsigned char>(text[end - 1]))) --end;  // z

@@ -2,19 +2,15 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cstring>
 #include <exception>
 #include <memory>
 #include <optional>
 #include <sstream>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include "common/atomic_file.h"
 #include "common/errors.h"
+#include "common/file_bytes.h"
 #include "common/numbers.h"
 #include "mesh/build_mesh.h"
 #include "mesh/obj_source.h"
@@ -79,56 +75,6 @@ std::optional<VolumeFormat> volume_format(MeshFormat format) {
 
 namespace {
 
-// A file's bytes, read whole with read(2) into one buffer: no stream buffer in between
-// and no copy afterwards, so reading runs at the speed of the page cache.
-struct FileBytes {
-  std::unique_ptr<char[]> data;
-  std::size_t size = 0;
-  std::string_view view() const { return {data.get(), size}; }
-};
-
-// Reads into buf[0, size) from fd, retrying on EINTR; returns the bytes read (0 at the end).
-std::size_t read_some(int fd, char* buf, std::size_t size, const std::string& path) {
-  for (;;) {
-    const ssize_t got = ::read(fd, buf, size);
-    if (got >= 0) return static_cast<std::size_t>(got);
-    if (errno == EINTR) continue;
-    const int error = errno;
-    ::close(fd);
-    throw IoError(At{path}, std::string("cannot read: ") + std::strerror(error));
-  }
-}
-
-FileBytes read_bytes(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(At{path}, "no such file");
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw InputError(At{path}, std::string("cannot open for reading: ") + std::strerror(errno));
-  struct stat st {};
-  std::size_t capacity = ::fstat(fd, &st) == 0 && st.st_size > 0 ? static_cast<std::size_t>(st.st_size) : 0;
-  FileBytes bytes;
-  bytes.data.reset(new char[capacity]);
-  for (;;) {  // to the end, even if the file has grown since fstat
-    if (bytes.size < capacity) {
-      const std::size_t got = read_some(fd, bytes.data.get() + bytes.size, capacity - bytes.size, path);
-      if (got == 0) break;
-      bytes.size += got;
-      continue;
-    }
-    char probe[4096];
-    const std::size_t got = read_some(fd, probe, sizeof probe, path);
-    if (got == 0) break;
-    capacity = 2 * capacity + sizeof probe;
-    std::unique_ptr<char[]> more(new char[capacity]);
-    std::memcpy(more.get(), bytes.data.get(), bytes.size);
-    std::memcpy(more.get() + bytes.size, probe, got);
-    bytes.data = std::move(more);
-    bytes.size += got;
-  }
-  ::close(fd);
-  return bytes;
-}
-
 // Per-vertex normals for formats that hold one normal per vertex: each vertex's file
 // normal carried into deformed space (vertex_file_normals); vertices without a file
 // normal get their current normal.
@@ -167,7 +113,7 @@ std::size_t stage_gltf_images(const std::filesystem::path& target, const Mesh& m
 Mesh read_mesh(const std::string& path, bool defer_normals) {
   const MeshFormat format = mesh_format(path);
   if (const std::optional<VolumeFormat> volume = volume_format(format)) return read_volume_mesh(path, *volume, defer_normals);
-  const FileBytes bytes = read_bytes(path);
+  const FileBytes bytes = read_file_bytes(path);
   std::string_view text = bytes.view();
   // A text format (and a PLY's header) must be ASCII or UTF-8; a binary STL's 80-byte
   // header and a GLB are bytes.

@@ -2,13 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cstring>
 #include <map>
-
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include "common/errors.h"
 #include "common/numbers.h"
@@ -35,37 +30,12 @@ std::optional<VolumeFormat> volume_format_of(const fs::path& path) {
 
 namespace {
 
-// A file's bytes, whole, shared with the VolumeFile that will patch them.
-SharedBytes read_file_bytes(const std::string& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(At{path}, "no such file");
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw InputError(At{path}, std::string("cannot open for reading: ") + std::strerror(errno));
-  struct stat st {};
-  auto bytes = std::make_shared<std::string>();
-  if (::fstat(fd, &st) == 0 && st.st_size > 0) bytes->reserve(static_cast<std::size_t>(st.st_size));
-  char buffer[1 << 16];
-  for (;;) {
-    const ssize_t got = ::read(fd, buffer, sizeof buffer);
-    if (got == 0) break;
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) {
-      const int error = errno;
-      ::close(fd);
-      throw IoError(At{path}, std::string("cannot read: ") + std::strerror(error));
-    }
-    bytes->append(buffer, static_cast<std::size_t>(got));
-  }
-  ::close(fd);
-  return bytes;
-}
-
 VolumeRead read_volume(const std::string& path, VolumeFormat format) {
   switch (format) {
-    case VolumeFormat::Vtu: return read_vtu(read_file_bytes(path), path);
-    case VolumeFormat::Vtk: return read_vtk_legacy(read_file_bytes(path), path);
-    case VolumeFormat::Msh: return read_msh(read_file_bytes(path), path);
-    case VolumeFormat::Su2: return read_su2(read_file_bytes(path), path);
+    case VolumeFormat::Vtu: return read_vtu(read_shared_file_bytes(path), path);
+    case VolumeFormat::Vtk: return read_vtk_legacy(read_shared_file_bytes(path), path);
+    case VolumeFormat::Msh: return read_msh(read_shared_file_bytes(path), path);
+    case VolumeFormat::Su2: return read_su2(read_shared_file_bytes(path), path);
     case VolumeFormat::Foam: return read_foam(path);
   }
   throw InputError(At{path}, "not a volume mesh format");
@@ -121,7 +91,7 @@ namespace {
 
 // Stages a copy of `from` at `to`; returns its size.
 std::size_t stage_copy(const fs::path& from, const fs::path& to, std::vector<StagedFile>& files) {
-  const SharedBytes bytes = read_file_bytes(from.string());
+  const SharedBytes bytes = read_shared_file_bytes(from.string());
   fs::create_directories(to.parent_path());
   files.emplace_back(to);
   return files.back().write([&](std::ostream& os) { os.write(bytes->data(), static_cast<std::streamsize>(bytes->size())); });

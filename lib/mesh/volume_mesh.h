@@ -16,6 +16,8 @@
 #include <string_view>
 #include <vector>
 
+#include "common/file_bytes.h"
+
 namespace ffd {
 
 /// VTK's cell type numbers (vtkCellType.h), which SU2 uses too; readers of other formats
@@ -117,6 +119,6 @@ struct VolumeRead {
 };
 
 /// The file's bytes, shared between a reader's result and its VolumeFile.
-using SharedBytes = std::shared_ptr<const std::string>;
+using SharedBytes = std::shared_ptr<const FileBytes>;
 
 }  // namespace ffd

@@ -12,7 +12,7 @@ TextPoints::TextPoints(SharedBytes bytes, std::vector<std::uint64_t> spans, int 
     : bytes_(std::move(bytes)), spans_(std::move(spans)), dimension_(dimension), as_read_(std::move(as_read)) {}
 
 void TextPoints::write(std::ostream& os, const Eigen::Matrix3Xd& positions) const {
-  const std::string& text = *bytes_;
+  const std::string_view text = bytes_->view();
   std::string chunk;
   std::uint64_t kept = 0;  // text[kept, ...) is not yet written
   auto flush = [&] {
@@ -23,7 +23,7 @@ void TextPoints::write(std::ostream& os, const Eigen::Matrix3Xd& positions) cons
     const Eigen::Vector3d p = positions.col(i);
     if (p == as_read_.col(i)) continue;
     const std::uint64_t begin = spans_[2 * i], end = spans_[2 * i + 1];
-    chunk.append(text, kept, begin - kept);
+    chunk.append(text.substr(kept, begin - kept));
     for (int k = 0; k < dimension_; ++k) {
       if (k) chunk += ' ';
       append_number(chunk, p[k]);
@@ -31,8 +31,8 @@ void TextPoints::write(std::ostream& os, const Eigen::Matrix3Xd& positions) cons
     kept = end;
     if (chunk.size() > (1u << 20)) flush();
   }
-  chunk.append(text, kept, std::string::npos);
   flush();
+  os.write(text.data() + kept, static_cast<std::streamsize>(text.size() - kept));
 }
 
 double read_binary_scalar(const char* at, BinaryScalar scalar) {
@@ -54,7 +54,7 @@ BinaryPoints::BinaryPoints(SharedBytes bytes, std::vector<BinaryBlock> blocks, B
 void BinaryPoints::write(std::ostream& os, const Eigen::Matrix3Xd& positions) const {
   // The file's bytes go out as they are up to each moved node, then that node's
   // coordinates: no copy of the whole file.
-  const std::string& bytes = *bytes_;
+  const std::string_view bytes = bytes_->view();
   const std::size_t size = scalar_.is_double ? 8 : 4;
   std::uint64_t kept = 0;  // bytes[kept, ...) is not yet written
   char patched[3 * 8];

@@ -310,8 +310,8 @@ void read_cell_types(Legacy& f, VolumeCells& cells) {
   for (std::size_t c = 0; c < cells.size(); ++c) {
     if (cells.type[c] == cell_type::kPolyhedron)
       fail(f, first, "cell " + std::to_string(c) + " is a polyhedron; ffdtool reads polyhedra from VTU files, not legacy VTK");
-    const std::string problem = vtk_cell_problem(cells.type[c], cells.degree(c));
-    if (!problem.empty()) fail(f, first, "cell " + std::to_string(c) + ": " + problem);
+    if (!vtk_cell_fits(cells.type[c], cells.degree(c)))
+      fail(f, first, "cell " + std::to_string(c) + ": " + vtk_cell_problem(cells.type[c], cells.degree(c)));
   }
 }
 

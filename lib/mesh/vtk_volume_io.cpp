@@ -1,5 +1,7 @@
 #include "mesh/vtk_volume_io.h"
 
+#include <array>
+
 namespace ffd {
 namespace {
 
@@ -32,9 +34,26 @@ std::uint64_t fixed_node_count(std::uint8_t type) {
   }
 }
 
+// Per type: 0 for a type refused, 1 for any node count, else the count + 2 (at most 29).
+const std::array<std::uint8_t, 256> kNodesNeeded = [] {
+  std::array<std::uint8_t, 256> t{};
+  for (int type = 0; type < 256; ++type) {
+    const auto u = static_cast<std::uint8_t>(type);
+    if (u == cell_type::kOtherCell || cell_type_dimension(u) < 0) continue;
+    t[u] = static_cast<std::uint8_t>(fixed_node_count(u) + (fixed_node_count(u) ? 2 : 1));
+  }
+  return t;
+}();
+
 }  // namespace
 
+bool vtk_cell_fits(std::uint8_t type, std::uint64_t nodes) {
+  const std::uint8_t needed = kNodesNeeded[type];
+  return needed == 1 ? nodes > 0 : needed > 1 && nodes + 2 == needed;
+}
+
 std::string vtk_cell_problem(std::uint8_t type, std::uint64_t nodes) {
+  if (vtk_cell_fits(type, nodes)) return {};
   if (type == cell_type::kOtherCell || cell_type_dimension(type) < 0)
     return "unknown cell type " + std::to_string(type);
   const std::uint64_t needed = fixed_node_count(type);

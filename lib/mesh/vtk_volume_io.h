@@ -31,4 +31,7 @@ VolumeRead read_vtk_legacy(SharedBytes bytes, const std::string& path);
 /// problem in words, or an empty string.
 std::string vtk_cell_problem(std::uint8_t type, std::uint64_t nodes);
 
+/// vtk_cell_problem(type, nodes) is empty: a table look-up, for the loop over every cell.
+bool vtk_cell_fits(std::uint8_t type, std::uint64_t nodes);
+
 }  // namespace ffd

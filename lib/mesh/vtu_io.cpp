@@ -2,9 +2,11 @@
 //
 // The file is split before any XML parser sees it: raw appended data (after the '_' of
 // <AppendedData>) is not XML. The part before it, closed by "</AppendedData></VTKFile>",
-// is parsed in place by pugixml with no encoding conversion, so every text and attribute
-// value pugixml returns points at the same offset as in the file: the Points text, the
-// base64 runs and the appended offset="..." values are located in the file's bytes.
+// is cut to its skeleton (mesh/xml_skeleton.h: the tags, with each long text cut after
+// its first character) and parsed in place by pugixml with no encoding conversion, so
+// every text and attribute value pugixml returns maps back to its offset in the file:
+// the Points text, the base64 runs and the appended offset="..." values are located in
+// the file's bytes.
 // (pugixml over expat: a DOM whose values are offsets into our own buffer, which
 // expat's callbacks would make us track by hand.)
 #include <pugixml.hpp>
@@ -12,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -20,10 +23,12 @@
 #include <optional>
 #include <ostream>
 
+#include "common/base64.h"
 #include "common/errors.h"
 #include "common/numbers.h"
 #include "mesh/volume_patch.h"
 #include "mesh/vtk_volume_io.h"
+#include "mesh/xml_skeleton.h"
 
 namespace ffd {
 namespace {
@@ -65,88 +70,7 @@ std::int64_t load_integer(const char* at, Scalar t, bool swap) {
   }
 }
 
-// ---- base64 -------------------------------------------------------------------------
-
-constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
-
-// Each byte's base64 value: 0..63, 64 for '=', -1 for any other.
-const std::array<std::int8_t, 256> kBase64Values = [] {
-  std::array<std::int8_t, 256> v{};
-  v.fill(-1);
-  for (int i = 0; i < 64; ++i) v[static_cast<std::uint8_t>(kBase64[i])] = static_cast<std::int8_t>(i);
-  v['='] = 64;
-  return v;
-}();
-
-int base64_value(char c) { return kBase64Values[static_cast<std::uint8_t>(c)]; }
-
-// Decodes base64 text made of one or more padded runs (VTK encodes an array's header
-// and its data apart), whitespace allowed between characters. Returns the offset in
-// `text` of the first character that is not valid there, or kNone.
-std::size_t decode_base64(std::string_view text, std::string& out) {
-  // Decoded through a small buffer appended to `out` (reserved once): a resize of a
-  // large array would first zero it, page by page.
-  out.clear();
-  out.reserve(text.size() / 4 * 3);
-  char buffer[3 * 4096];
-  std::size_t size = 0;  // bytes in buffer
-  const auto flush = [&](std::size_t room) {
-    if (size + room <= sizeof buffer) return;
-    out.append(buffer, size);
-    size = 0;
-  };
-  int group[4];
-  std::size_t at[4];
-  int n = 0;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    // Whole groups of four plain characters at once (no space, no padding), the bulk of
-    // an array; anything else goes through the character loop below.
-    while (n == 0 && i + 4 <= text.size()) {
-      const int a = base64_value(text[i]), b = base64_value(text[i + 1]);
-      const int c = base64_value(text[i + 2]), d = base64_value(text[i + 3]);
-      if ((a | b | c | d) & ~63) break;
-      const std::uint32_t bits = (a << 18) | (b << 12) | (c << 6) | d;
-      flush(3);
-      buffer[size] = static_cast<char>(bits >> 16);
-      buffer[size + 1] = static_cast<char>((bits >> 8) & 255);
-      buffer[size + 2] = static_cast<char>(bits & 255);
-      size += 3;
-      i += 4;
-    }
-    if (i >= text.size()) break;
-    if (is_space(text[i])) continue;
-    const int v = base64_value(text[i]);
-    if (v < 0 || (v == 64 && n < 2) || (n == 3 && group[2] == 64 && v != 64)) return i;
-    at[n] = i;
-    group[n++] = v;
-    if (n < 4) continue;
-    const int pads = (group[2] == 64) + (group[3] == 64);
-    const std::uint32_t bits = (group[0] << 18) | (group[1] << 12) | ((group[2] & 63) << 6) | (group[3] & 63);
-    flush(3);
-    buffer[size++] = static_cast<char>(bits >> 16);
-    if (pads < 2) buffer[size++] = static_cast<char>((bits >> 8) & 255);
-    if (pads < 1) buffer[size++] = static_cast<char>(bits & 255);
-    n = 0;
-  }
-  out.append(buffer, size);
-  return n == 0 ? kNone : at[0];
-}
-
-void encode_base64(std::string_view data, std::string& out) {
-  out.reserve(out.size() + (data.size() + 2) / 3 * 4);
-  for (std::size_t i = 0; i < data.size(); i += 3) {
-    const std::size_t left = data.size() - i;
-    std::uint32_t bits = static_cast<std::uint8_t>(data[i]) << 16;
-    if (left > 1) bits |= static_cast<std::uint8_t>(data[i + 1]) << 8;
-    if (left > 2) bits |= static_cast<std::uint8_t>(data[i + 2]);
-    out += kBase64[bits >> 18];
-    out += kBase64[(bits >> 12) & 63];
-    out += left > 1 ? kBase64[(bits >> 6) & 63] : '=';
-    out += left > 2 ? kBase64[bits & 63] : '=';
-  }
-}
 
 // ---- the file -----------------------------------------------------------------------
 
@@ -180,7 +104,7 @@ struct Vtu {
   Vtu(std::string_view b, const std::string& p) : bytes(b), path(p) {}
   std::string_view bytes;
   const std::string& path;
-  std::string xml;  // the XML part, parsed in place
+  XmlSkeleton xml;  // the XML part's skeleton, parsed in place
   pugi::xml_document doc;
   Layout layout;
   std::size_t appended = kNone;  // the first byte after AppendedData's '_'
@@ -203,16 +127,16 @@ std::string line_place(const Vtu& f, std::size_t offset) {
 
 std::string quoted(const DataArray& a) { return "DataArray '" + a.name + "'"; }
 
-std::size_t node_offset(const Vtu&, pugi::xml_node node) {
+std::size_t node_offset(const Vtu& f, pugi::xml_node node) {
   const std::ptrdiff_t at = node.offset_debug();
-  return at < 0 ? 0 : static_cast<std::size_t>(at);
+  return at < 0 ? 0 : f.xml.text_offset(static_cast<std::size_t>(at));
 }
 
 // Where a value pugixml returns lies in the file, or kNone for one outside the buffer.
 std::size_t value_offset(const Vtu& f, const char* value) {
-  const char* base = f.xml.data();
-  if (value < base || value >= base + f.xml.size()) return kNone;
-  return static_cast<std::size_t>(value - base);
+  const char* base = f.xml.markup.data();
+  if (value < base || value >= base + f.xml.markup.size()) return kNone;
+  return f.xml.text_offset(static_cast<std::size_t>(value - base));
 }
 
 // Cuts the raw or base64 appended data off the XML part and notes where it is.
@@ -220,7 +144,7 @@ void split_appended(Vtu& f) {
   const std::string_view b = f.bytes;
   const std::size_t tag = b.find("<AppendedData");
   if (tag == kNone) {
-    f.xml.assign(b);
+    f.xml = xml_skeleton(b);
     return;
   }
   const std::size_t tag_end = b.find('>', tag);
@@ -233,8 +157,8 @@ void split_appended(Vtu& f) {
   f.appended_end = b.rfind("</AppendedData>");
   if (f.appended_end == kNone || f.appended_end < f.appended)
     fail(f, f.appended, "the AppendedData element is not closed (no '</AppendedData>' after its data)");
-  f.xml.assign(b.substr(0, underscore));
-  f.xml += "</AppendedData></VTKFile>";
+  f.xml = xml_skeleton(b.substr(0, underscore));
+  f.xml.markup += "</AppendedData></VTKFile>";
 }
 
 // pugixml leaves text and attribute values as the file has them (no end-of-line or entity
@@ -244,8 +168,8 @@ constexpr unsigned kParseFlags = pugi::parse_minimal | pugi::parse_cdata;
 
 void parse_xml(Vtu& f) {
   const pugi::xml_parse_result r =
-      f.doc.load_buffer_inplace(f.xml.data(), f.xml.size(), kParseFlags, pugi::encoding_utf8);
-  if (!r) fail(f, static_cast<std::size_t>(std::max<std::ptrdiff_t>(r.offset, 0)),
+      f.doc.load_buffer_inplace(f.xml.markup.data(), f.xml.markup.size(), kParseFlags, pugi::encoding_utf8);
+  if (!r) fail(f, f.xml.text_offset(static_cast<std::size_t>(std::max<std::ptrdiff_t>(r.offset, 0))),
                std::string("not well-formed XML: ") + r.description());
 }
 
@@ -370,7 +294,7 @@ DataArray declare(const Vtu& f, pugi::xml_node node) {
 
 // An array's values as decoded from base64 and zlib, and how they were encoded.
 struct Stored {
-  std::string decoded;        // base64's bytes (header included)
+  DecodedBytes decoded;       // base64's bytes (header included)
   std::string inflated;       // zlib's values
   bool from_file = false;     // values lie in the file (raw appended, uncompressed)
   bool in_decoded = false;    // values lie in `decoded` (base64, uncompressed)
@@ -381,7 +305,7 @@ struct Stored {
 
   std::string_view values(std::string_view file) const {
     if (from_file) return file.substr(first, size);
-    if (in_decoded) return std::string_view(decoded).substr(first, size);
+    if (in_decoded) return decoded.view().substr(first, size);
     return inflated;
   }
 };
@@ -456,9 +380,9 @@ Stored decode(const Vtu& f, const DataArray& a) {
   st.encoded_end = st.encoded_begin + text.size();
   const std::size_t bad = decode_base64(text, st.decoded);
   if (bad != kNone) fail(f, st.encoded_begin + bad, quoted(a) + " is not valid base64");
-  const std::size_t used = unpack(f, a, st.decoded, st);
-  if (used != st.decoded.size())
-    fail(f, a.at, quoted(a) + " has " + std::to_string(st.decoded.size() - used) + " bytes after its data");
+  const std::size_t used = unpack(f, a, st.decoded.view(), st);
+  if (used != st.decoded.size)
+    fail(f, a.at, quoted(a) + " has " + std::to_string(st.decoded.size - used) + " bytes after its data");
   st.in_decoded = !f.layout.zlib;
   const std::size_t header = f.layout.zlib ? (3 + st.blocks) * f.layout.header_size : f.layout.header_size;
   const std::size_t chars = (header + 2) / 3 * 4;
@@ -498,29 +422,123 @@ void read_ascii_integers(const Vtu& f, const DataArray& a, std::uint64_t count, 
   }
 }
 
-// `count` integers of `a`, each in [lo, hi] (else the message `range` makes).
+// A base64 array (uncompressed) whose text is plain: whole groups, no space, padding only
+// after a header encoded apart and in the last group. The values are then decoded block
+// by block, in parallel, straight into their destination: no copy of the decoded array.
+struct PlainBase64 {
+  std::string_view groups;           // the text holding the values (and a joined header)
+  std::size_t lead = 0;              // decoded bytes before the first value
+  std::uint64_t bytes = 0;           // the values' bytes, as the header says
+  std::array<char, 3> last{};        // the last group, decoded
+  std::size_t last_size = 0;
+};
+
+std::optional<PlainBase64> plain_base64(const Vtu& f, const DataArray& a) {
+  std::string_view text = f.bytes.substr(a.begin, a.end - a.begin);
+  while (!text.empty() && is_space(text.front())) text.remove_prefix(1);
+  while (!text.empty() && is_space(text.back())) text.remove_suffix(1);
+  const std::size_t h = f.layout.header_size, chars = (h + 2) / 3 * 4;
+  if (text.size() < chars + 4 || text.size() % 4 != 0) return std::nullopt;
+  PlainBase64 p;
+  const bool apart = text[chars - 1] == '=';
+  DecodedBytes header;
+  if (decode_base64(text.substr(0, chars), header) != kNone || header.size < h) return std::nullopt;
+  p.groups = apart ? text.substr(chars) : text;
+  p.lead = apart ? 0 : h;
+  p.bytes = h == 8 ? load_bytes<std::uint64_t>(header.data.get(), f.layout.swap)
+                   : load_bytes<std::uint32_t>(header.data.get(), f.layout.swap);
+  DecodedBytes last;
+  if (decode_base64(p.groups.substr(p.groups.size() - 4), last) != kNone || last.size == 0) return std::nullopt;
+  std::copy(last.data.get(), last.data.get() + last.size, p.last.begin());
+  p.last_size = last.size;
+  if (3 * (p.groups.size() / 4 - 1) + p.last_size != p.lead + p.bytes) return std::nullopt;
+  return p;
+}
+
+// The first value of a block out of range.
+struct BadValue {
+  std::uint64_t index = UINT64_MAX;
+  long long value = 0;
+};
+
+// Decodes and checks values [k0, k1) of a plain array into out[k0, k1); returns false if a
+// group is not plain, and notes in `bad` the first value out of [lo, hi].
+template <class T>
+bool read_plain_block(const Vtu& f, const DataArray& a, const PlainBase64& p, std::uint64_t k0, std::uint64_t k1,
+                      long long lo, long long hi, std::vector<char>& local, T* out, BadValue& bad) {
+  const std::size_t size = scalar_size(a.type), groups = p.groups.size() / 4;
+  const std::size_t start = p.lead + k0 * size, end = p.lead + k1 * size;
+  const std::size_t g0 = start / 3, g1 = (end + 2) / 3;  // the groups holding them
+  const std::size_t whole = std::min(g1, groups - 1) - g0;
+  local.resize(3 * (g1 - g0));
+  if (decode_base64_groups(p.groups.data() + 4 * g0, whole, local.data()) != whole) return false;
+  if (g1 == groups) std::copy(p.last.begin(), p.last.begin() + p.last_size, local.begin() + 3 * whole);
+  const char* v = local.data() + (start - 3 * g0);
+  for (std::uint64_t k = k0; k < k1; ++k, v += size) {
+    const std::int64_t x = load_integer(v, a.type, f.layout.swap);
+    if (x < lo || x > hi) {
+      bad = {k, x};
+      return true;
+    }
+    out[k] = static_cast<T>(x);
+  }
+  return true;
+}
+
+// Reads `count` values of a plain array into out[0, count) on every thread, in fixed
+// blocks. Returns false if the text is not plain after all (the caller decodes it the
+// general way, which says where it is wrong); fails on the first value out of range.
+template <class T>
+bool read_plain_integers(const Vtu& f, const DataArray& a, const PlainBase64& p, std::uint64_t count, long long lo,
+                         long long hi, T* out, const RangeMessage& range) {
+  constexpr std::uint64_t kBlock = 3 << 14;  // values
+  const std::int64_t blocks = static_cast<std::int64_t>((count + kBlock - 1) / kBlock);
+  std::vector<BadValue> bad(static_cast<std::size_t>(blocks));
+  std::atomic<bool> plain{true};
+#pragma omp parallel
+  {
+    std::vector<char> local;
+#pragma omp for schedule(static)
+    for (std::int64_t b = 0; b < blocks; ++b) {
+      const std::uint64_t k0 = static_cast<std::uint64_t>(b) * kBlock, k1 = std::min(count, k0 + kBlock);
+      if (!read_plain_block(f, a, p, k0, k1, lo, hi, local, out, bad[static_cast<std::size_t>(b)])) plain = false;
+    }
+  }
+  if (!plain) return false;
+  for (const BadValue& b : bad)
+    if (b.index != UINT64_MAX) fail(f, a.at, range(b.index, b.value));
+  return true;
+}
+
+// Appends `count` integers of `a` to `out`, each in [lo, hi] (else the message `range`
+// makes).
 template <class T>
 void read_integers(const Vtu& f, const DataArray& a, std::uint64_t count, long long lo, long long hi,
                    std::vector<T>& out, const RangeMessage& range) {
   if (is_float(a.type)) fail(f, a.at, quoted(a) + " has type " + std::string(scalar_name(a.type)) + "; expected an integer type");
   if (count > max_values(a))
     fail(f, a.at, quoted(a) + " is too short to hold " + std::to_string(count) + " values");
-  out.clear();
+  const std::size_t base = out.size(), size = scalar_size(a.type);
   if (a.format == Format::Ascii) {
-    out.reserve(count);
+    out.reserve(base + count);
     return read_ascii_integers(f, a, count, lo, hi, out, range);
   }
+  if (!f.layout.zlib && (a.format == Format::Binary || f.appended_base64))
+    if (const std::optional<PlainBase64> p = plain_base64(f, a); p && p->bytes == count * size) {
+      out.resize(base + count);
+      if (read_plain_integers(f, a, *p, count, lo, hi, out.data() + base, range)) return;
+      out.resize(base);
+    }
   const Stored st = decode(f, a);
   const std::string_view v = st.values(f.bytes);
-  const std::size_t size = scalar_size(a.type);
   if (v.size() / size != count || v.size() % size != 0)
     fail(f, a.at, quoted(a) + " holds " + std::to_string(v.size()) + " bytes where " + std::to_string(count) + " values of " +
          std::string(scalar_name(a.type)) + " are expected");
-  out.resize(count);
+  out.resize(base + count);
   for (std::uint64_t i = 0; i < count; ++i) {
     const std::int64_t x = load_integer(v.data() + i * size, a.type, f.layout.swap);
     if (x < lo || x > hi) fail(f, a.at, range(i, x));
-    out[i] = static_cast<T>(x);
+    out[base + i] = static_cast<T>(x);
   }
 }
 
@@ -613,8 +631,8 @@ const DataArray& need(const Vtu& f, const std::optional<DataArray>& a, const cha
 // Each cell's type and node count, checked.
 void check_cells(const Vtu& f, const CellArrays& arrays, const VolumeCells& cells) {
   for (std::size_t c = 0; c < cells.size(); ++c) {
-    const std::string problem = vtk_cell_problem(cells.type[c], cells.degree(c));
-    if (!problem.empty()) fail(f, arrays.types->at, "cell " + std::to_string(c) + ": " + problem);
+    if (!vtk_cell_fits(cells.type[c], cells.degree(c)))
+      fail(f, arrays.types->at, "cell " + std::to_string(c) + ": " + vtk_cell_problem(cells.type[c], cells.degree(c)));
   }
 }
 
@@ -672,14 +690,11 @@ VolumeCells read_cells(const Vtu& f, pugi::xml_node piece, std::uint64_t ncells,
   const CellArrays arrays = find_cell_arrays(f, piece);
   if (ncells == 0) return cells;
   const DataArray& offsets = need(f, arrays.offsets, "offsets", piece);
-  std::vector<std::uint64_t> ends;
-  read_integers(f, offsets, ncells, 0, INT64_MAX / 2, ends,
+  cells.offset.reserve(ncells + 1);  // after its 0: the file's end offsets
+  read_integers(f, offsets, ncells, 0, INT64_MAX / 2, cells.offset,
                 [](std::uint64_t i, long long v) { return "offset " + std::to_string(v) + " of cell " + std::to_string(i) + " is negative"; });
-  for (std::size_t c = 1; c < ends.size(); ++c)
-    if (ends[c] < ends[c - 1]) fail(f, offsets.at, "offsets decrease at cell " + std::to_string(c));
-  cells.offset.reserve(ncells + 1);
-  cells.offset.insert(cells.offset.end(), ends.begin(), ends.end());
-  ends = {};
+  for (std::size_t c = 1; c < ncells; ++c)
+    if (cells.offset[c + 1] < cells.offset[c]) fail(f, offsets.at, "offsets decrease at cell " + std::to_string(c));
   read_integers(f, need(f, arrays.connectivity, "connectivity", piece), cells.offset.back(), 0,
                 static_cast<long long>(nodes) - 1, cells.node, [&](std::uint64_t i, long long v) {
                   const auto c = std::upper_bound(cells.offset.begin(), cells.offset.end(), i) - cells.offset.begin() - 1;
@@ -785,10 +800,10 @@ private:
     if (!e_.base64) return header + data;
     std::string text;
     if (e_.header_apart) {
-      encode_base64(header, text);
-      encode_base64(data, text);
+      append_base64(header, text);
+      append_base64(data, text);
     } else {
-      encode_base64(header + data, text);
+      append_base64(header + data, text);
     }
     return text;
   }

@@ -20,7 +20,7 @@ namespace ffd::fuzz {
 /// Reads `bytes` as `format` ("vtu", "vtk", "msh", "su2", "foam": the five files of a
 /// polyMesh in split_foam_bundle's form, whose `points` file is the one written back).
 inline VolumeRead read_volume_input(const std::string& format, std::string_view bytes, SharedBytes& written) {
-  auto shared = std::make_shared<const std::string>(bytes);
+  auto shared = std::make_shared<const FileBytes>(std::string(bytes));
   written = shared;
   if (format == "vtu") return read_vtu(shared, "fuzz.vtu");
   if (format == "vtk") return read_vtk_legacy(shared, "fuzz.vtk");
@@ -44,7 +44,7 @@ inline void check_volume_round_trip(const std::string& format, std::string_view 
   const VolumeRead read = read_volume_input(format, bytes, original);
   if (read.source.cells.offset.size() != read.source.cells.size() + 1)
     throw std::logic_error("the cells' offsets do not match their count");
-  if (write_volume(read, read.points) != *original)
+  if (write_volume(read, read.points) != original->view())
     throw std::logic_error("the unmoved nodes were not written back byte for byte");
   if (read.points.cols() == 0) return;  // nothing to move (read_volume_mesh refuses such a file)
   Eigen::Matrix3Xd moved = read.points;
@@ -55,7 +55,7 @@ inline void check_volume_round_trip(const std::string& format, std::string_view 
   VolumeRead again;
   if (format == "foam") {  // the written points file in place of the read one
     FoamFiles files = split_foam_bundle(bytes);
-    files.points = std::make_shared<const std::string>(written);
+    files.points = std::make_shared<const FileBytes>(std::string(written));
     again = read_foam_files(files, "fuzz");
   } else {
     again = read_volume_input(format, written, again_bytes);
