@@ -1,8 +1,10 @@
 // The volume mesh core: the cell quality guard against independent formulas, and the SU2
 // reader and its patching writer.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -129,6 +131,58 @@ TEST(CellQuality, CountsAgreeWithALoopOverTheCells) {
   ASSERT_EQ(q.worst.size(), 7u);
   EXPECT_EQ(q.worst.front().scaled_jacobian, lowest);
   for (std::size_t i = 1; i < q.worst.size(); ++i) EXPECT_LE(q.worst[i - 1].scaled_jacobian, q.worst[i].scaled_jacobian);
+}
+
+// A valid mesh (a jittered grid of Kuhn tetrahedra, a hexahedron among them): most cells
+// are decided without their score, and the verdict is the loop's: the minimum, and the
+// worst cells with their scores, in order, for any thread count and with no worst list.
+TEST(CellQuality, OnAValidMeshTheWorstCellsAreTheLoops) {
+  const int n = 30;
+  Eigen::Matrix3Xd points(3, n * n * n);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  for (int i = 0; i < n * n * n; ++i)
+    points.col(i) = Eigen::Vector3d(i % n + jitter(rng), i / n % n + jitter(rng), i / (n * n) + jitter(rng));
+  VolumeCells cells;
+  const int kuhn[6][4] = {{0, 1, 3, 7}, {0, 1, 7, 5}, {0, 4, 5, 7}, {0, 2, 6, 7}, {0, 3, 2, 7}, {0, 6, 4, 7}};
+  for (int z = 0; z + 1 < n; ++z)
+    for (int y = 0; y + 1 < n; ++y)
+      for (int x = 0; x + 1 < n; ++x) {
+        std::uint32_t corner[8];
+        for (int k = 0; k < 8; ++k) corner[k] = static_cast<std::uint32_t>((x + (k & 1)) + n * ((y + (k >> 1 & 1)) + n * (z + (k >> 2))));
+        for (const auto& t : kuhn) {
+          std::uint32_t ids[4] = {corner[t[0]], corner[t[1]], corner[t[2]], corner[t[3]]};
+          const Eigen::Vector3d a = points.col(ids[0]);
+          if ((points.col(ids[1]) - a).dot((points.col(ids[2]) - a).cross(points.col(ids[3]) - a)) < 0) std::swap(ids[2], ids[3]);
+          cells.add(cell_type::kTetra, ids, 4);
+        }
+        if (x == 7 && y == 7 && z == 7) {
+          const std::uint32_t hex[8] = {corner[0], corner[1], corner[3], corner[2], corner[4], corner[5], corner[7], corner[6]};
+          cells.add(cell_type::kHexahedron, hex, 8);
+        }
+      }
+  std::vector<CellMeasure> loop;
+  for (std::size_t c = 0; c < cells.size(); ++c) loop.push_back(measure_cell(cells, c, points));
+  std::sort(loop.begin(), loop.end(), [](const CellMeasure& a, const CellMeasure& b) {
+    return a.scaled_jacobian != b.scaled_jacobian ? a.scaled_jacobian < b.scaled_jacobian : a.cell < b.cell;
+  });
+  ASSERT_GT(loop.front().scaled_jacobian, 0);
+  const int team = omp_get_max_threads();
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    const CellQuality q = cell_quality(cells, points, 9);
+    EXPECT_EQ(q.checked, cells.size());
+    EXPECT_EQ(q.inverted, 0u);
+    EXPECT_EQ(q.min_scaled_jacobian, loop.front().scaled_jacobian);
+    ASSERT_EQ(q.worst.size(), 9u);
+    for (std::size_t i = 0; i < 9; ++i) {
+      EXPECT_EQ(q.worst[i].cell, loop[i].cell);
+      EXPECT_EQ(q.worst[i].scaled_jacobian, loop[i].scaled_jacobian);
+      EXPECT_EQ(q.worst[i].volume, loop[i].volume);
+    }
+    EXPECT_EQ(cell_quality(cells, points, 0).min_scaled_jacobian, loop.front().scaled_jacobian);
+  }
+  omp_set_num_threads(team);
 }
 
 const char kSu2[] =
