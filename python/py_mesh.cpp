@@ -7,7 +7,9 @@
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "mesh/build_mesh.h"
+#include "mesh/cell_quality.h"
 #include "mesh/mesh_io.h"
+#include "script/volume_guard.h"
 #include "py_arrays.h"
 
 namespace ffd::py {
@@ -21,16 +23,31 @@ PyMesh read(const std::filesystem::path& file) {
   return out;
 }
 
+// Issues `message` as an ffdtool.FfdWarning.
+void warn(const std::string& message) {
+  const pb::object category = pb::module_::import("ffdtool").attr("FfdWarning");
+  if (PyErr_WarnEx(category.ptr(), message.c_str(), 1) != 0) throw pb::error_already_set();
+}
+
 // Writes as `ffdtool run` writes its output: the file whole or not at all, a glTF's
-// buffers and images beside it, file normals carried through the run's warps.
-void write(PyMesh& self, const std::filesystem::path& file) {
+// buffers and images beside it, file normals carried through the run's warps. A volume
+// mesh with inverted cells is refused as the CLI refuses it, unless allowed (then with
+// an FfdWarning).
+void write(PyMesh& self, const std::filesystem::path& file, bool allow_inverted) {
   const std::string path = file.string();
   const Scene& scene = *self.scene;
-  pb::gil_scoped_release unlocked;
-  const MeshFormat format = mesh_format(path);
-  require_output_folder(path, "output");
-  check_writable(scene.mesh, format, path);
-  for (StagedFile& staged : stage_mesh_files(path, scene.mesh, scene.write_options())) staged.commit();
+  std::string warning;
+  {
+    pb::gil_scoped_release unlocked;
+    const MeshFormat format = mesh_format(path);
+    require_output_folder(path, "output");
+    check_writable(scene.mesh, format, path);
+    if (const VolumeSource* source = scene.mesh.volume_source())
+      warning = inverted_cells_warning(scene.mesh, cell_quality(source->cells, scene.mesh.position_matrix()), path,
+                                       allow_inverted, "allow_inverted=True");
+    for (StagedFile& staged : stage_mesh_files(path, scene.mesh, scene.write_options())) staged.commit();
+  }
+  if (!warning.empty()) warn(warning);
 }
 
 // Appends `faces` (an (m, k) integer array or a sequence of index sequences) to
@@ -156,13 +173,15 @@ void bind_mesh(pb::module_& m) {
                              "The number of polygons (an OBJ's lines and points are not faces).")
       .def_property_readonly("file", [](const PyMesh& s) { return s.file; },
                              "The file the mesh was read from, '' for a mesh made from arrays or by run().")
-      .def("write", &write, pb::arg("path"),
-           "Writes the mesh (format from the extension: .obj .off .ply .stl .gltf .glb) as `ffdtool run` writes "
-           "its output: whole or not at all, with what the file it was read from carried.")
+      .def("write", &write, pb::arg("path"), pb::kw_only(), pb::arg("allow_inverted") = false,
+           "Writes the mesh (format from the extension: .obj .off .ply .stl .gltf .glb, or the volume format it was "
+           "read from: .vtu .vtk .msh .su2, an OpenFOAM polyMesh folder) as `ffdtool run` writes its output: whole "
+           "or not at all, with what the file it was read from carried. A volume mesh with inverted cells raises "
+           "InputError, as the CLI refuses it; allow_inverted=True writes it with an FfdWarning.")
       .def("__repr__", &repr);
   m.def("read", &read, pb::arg("path"),
-        "Reads a mesh file (.obj .off .ply .stl .gltf .glb) as the CLI does. Raises InputError naming the file "
-        "and place for anything unreadable.");
+        "Reads a mesh file (.obj .off .ply .stl .gltf .glb; volume meshes: .vtu .vtk .msh .su2, an OpenFOAM "
+        "polyMesh folder) as the CLI does. Raises InputError naming the file and place for anything unreadable.");
 }
 
 }  // namespace ffd::py

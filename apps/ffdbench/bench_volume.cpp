@@ -6,7 +6,8 @@
 // (child_run.h). Against meshio (Debian's python3-meshio) reading and writing the same
 // file in the same run: the goal is ffdtool's read + write ≥ 5× faster than meshio's on
 // binary VTU (held on the base64 file, the harder case for it), and the guard under 20%
-// of the run.
+// of the run (held on every format's row).
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -84,6 +85,8 @@ void bench_volume(Context& ctx) {
   json rows = json::array();
   for (const char* name : {"vtu", "vtu_zlib", "msh", "su2"}) rows.push_back(format_row(ffdtool, dir, name, made));
   const json& vtu = rows[0];
+  double guard_share = 0;  // the largest over the formats
+  for (const json& row : rows) guard_share = std::max(guard_share, row["guard_share_of_run"].get<double>());
   ctx.out["volume"] = {
       {"nodes", made["nodes"]},
       {"cells", made["cells"]},
@@ -91,8 +94,7 @@ void bench_volume(Context& ctx) {
       {"targets",
        {{"vtu_read_write_vs_meshio", {{"goal", 5.0}, {"value", vtu["meshio_over_ffdtool_read_write"]},
                                       {"met", vtu["meshio_over_ffdtool_read_write"].get<double>() >= 5.0}}},
-        {"guard_share_of_run", {{"goal", 0.2}, {"value", vtu["guard_share_of_run"]},
-                                {"met", vtu["guard_share_of_run"].get<double>() < 0.2}}}}}};
+        {"guard_share_of_run", {{"goal", 0.2}, {"value", guard_share}, {"met", guard_share < 0.2}}}}}};
 }
 
 }  // namespace ffd::bench

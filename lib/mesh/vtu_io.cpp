@@ -315,7 +315,42 @@ std::uint64_t header_number(std::string_view s, std::size_t i, const Layout& l) 
   return l.header_size == 8 ? load_bytes<std::uint64_t>(at, l.swap) : load_bytes<std::uint32_t>(at, l.swap);
 }
 
-// zlib blocks after their header in `s`: inflated into st.inflated; returns the bytes used.
+// One zlib block: where its packed bytes are in the array, and where its bytes go.
+struct ZlibBlock {
+  std::size_t at = 0, packed = 0;
+  std::uint64_t first = 0, size = 0;
+};
+
+// The blocks the header in `s` declares, up to the first that the data cannot hold;
+// `problem` says what is wrong with that one (empty when all are well).
+std::vector<ZlibBlock> zlib_blocks(const Vtu& f, const DataArray& a, std::string_view s, const Stored& st,
+                                   std::string& problem) {
+  const std::size_t h = f.layout.header_size;
+  std::vector<ZlibBlock> blocks;
+  blocks.reserve(static_cast<std::size_t>(st.blocks));
+  std::size_t at = (3 + st.blocks) * h;
+  std::uint64_t total = 0;  // uncompressed bytes
+  for (std::uint64_t k = 0; k < st.blocks; ++k) {
+    const std::uint64_t size = k + 1 == st.blocks && st.last_block_size ? st.last_block_size : st.block_size;
+    const std::uint64_t packed = header_number(s, 3 + k, f.layout);
+    if (packed > s.size() - at) {
+      problem = quoted(a) + ": zlib block " + std::to_string(k) + " is truncated";
+      break;
+    }
+    if (size > packed * 1032 + 64) {  // deflate's largest ratio is 1032:1
+      problem = quoted(a) + ": zlib block " + std::to_string(k) + " cannot hold " + std::to_string(size) + " bytes";
+      break;
+    }
+    blocks.push_back({at, static_cast<std::size_t>(packed), total, size});
+    at += packed;
+    total += size;
+  }
+  return blocks;
+}
+
+// zlib blocks after their header in `s`: inflated into st.inflated, the blocks on every
+// thread (VTK compresses each on its own); returns the bytes used. The first problem in
+// file order is the one reported.
 std::size_t inflate_blocks(const Vtu& f, const DataArray& a, std::string_view s, Stored& st) {
   const std::size_t h = f.layout.header_size;
   if (s.size() < 3 * h) fail(f, a.at, quoted(a) + "'s compression header is truncated");
@@ -325,24 +360,24 @@ std::size_t inflate_blocks(const Vtu& f, const DataArray& a, std::string_view s,
   if (st.blocks > (s.size() - 3 * h) / h) fail(f, a.at, quoted(a) + "'s compression header is truncated");
   if (st.block_size > (1u << 30) || st.last_block_size > st.block_size)
     fail(f, a.at, quoted(a) + "'s compression header has a block size out of range");
-  std::size_t at = (3 + st.blocks) * h;
-  std::uint64_t total = 0;  // uncompressed bytes
-  for (std::uint64_t k = 0; k < st.blocks; ++k) {
-    const std::uint64_t size = k + 1 == st.blocks && st.last_block_size ? st.last_block_size : st.block_size;
-    const std::uint64_t packed = header_number(s, 3 + k, f.layout);
-    if (packed > s.size() - at) fail(f, a.at, quoted(a) + ": zlib block " + std::to_string(k) + " is truncated");
-    if (size > packed * 1032 + 64)  // deflate's largest ratio is 1032:1
-      fail(f, a.at, quoted(a) + ": zlib block " + std::to_string(k) + " cannot hold " + std::to_string(size) + " bytes");
-    st.inflated.resize(total + size);
-    uLongf out = static_cast<uLongf>(size);
-    if (uncompress(reinterpret_cast<Bytef*>(st.inflated.data() + total), &out,
-                   reinterpret_cast<const Bytef*>(s.data() + at), static_cast<uLong>(packed)) != Z_OK || out != size)
-      fail(f, a.at, quoted(a) + ": zlib block " + std::to_string(k) + " is not valid zlib data of " +
-           std::to_string(size) + " bytes");
-    at += packed;
-    total += size;
+  std::string problem;
+  const std::vector<ZlibBlock> blocks = zlib_blocks(f, a, s, st, problem);
+  st.inflated.resize(blocks.empty() ? 0 : blocks.back().first + blocks.back().size);
+  std::vector<char> bad(blocks.size(), 0);
+#pragma omp parallel for schedule(dynamic, 8)
+  for (std::int64_t k = 0; k < static_cast<std::int64_t>(blocks.size()); ++k) {
+    const ZlibBlock& b = blocks[static_cast<std::size_t>(k)];
+    uLongf out = static_cast<uLongf>(b.size);
+    bad[static_cast<std::size_t>(k)] = uncompress(reinterpret_cast<Bytef*>(st.inflated.data() + b.first), &out,
+                                                  reinterpret_cast<const Bytef*>(s.data() + b.at),
+                                                  static_cast<uLong>(b.packed)) != Z_OK || out != b.size;
   }
-  return at;
+  for (std::size_t k = 0; k < blocks.size(); ++k)
+    if (bad[k])
+      fail(f, a.at, quoted(a) + ": zlib block " + std::to_string(k) + " is not valid zlib data of " +
+           std::to_string(blocks[k].size) + " bytes");
+  if (!problem.empty()) fail(f, a.at, problem);
+  return blocks.empty() ? (3 + st.blocks) * h : blocks.back().at + blocks.back().packed;
 }
 
 // The header and values in `s` (raw or decoded): notes where the values are; returns the
@@ -786,15 +821,21 @@ private:
       put_number(header, e_.blocks);
       put_number(header, e_.block_size);
       put_number(header, e_.last_block_size);
-      for (std::uint64_t k = 0; k < e_.blocks; ++k) {
-        const std::size_t first = static_cast<std::size_t>(k * e_.block_size);
+      std::vector<std::string> blocks(static_cast<std::size_t>(e_.blocks));
+#pragma omp parallel for schedule(dynamic, 8)
+      for (std::int64_t k = 0; k < static_cast<std::int64_t>(e_.blocks); ++k) {  // each block on its own
+        const std::size_t first = static_cast<std::size_t>(k) * static_cast<std::size_t>(e_.block_size);
         const std::size_t size = std::min<std::size_t>(static_cast<std::size_t>(e_.block_size), values.size() - first);
+        std::string& block = blocks[static_cast<std::size_t>(k)];
         uLongf packed = compressBound(static_cast<uLong>(size));
-        std::string block(packed, '\0');
+        block.resize(packed);
         compress2(reinterpret_cast<Bytef*>(block.data()), &packed, reinterpret_cast<const Bytef*>(values.data() + first),
                   static_cast<uLong>(size), Z_DEFAULT_COMPRESSION);
-        put_number(header, packed);
-        data.append(block, 0, packed);
+        block.resize(packed);
+      }
+      for (const std::string& block : blocks) {
+        put_number(header, block.size());
+        data += block;
       }
     }
     if (!e_.base64) return header + data;

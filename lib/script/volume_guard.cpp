@@ -76,21 +76,27 @@ std::string guard_line(const CellQuality& quality) {
          ", min scaled Jacobian " + format_number(quality.min_scaled_jacobian);
 }
 
-void check_inverted_cells(Scene& scene, const std::string& output, bool allow) {
-  if (!scene.quality || scene.quality->inverted == 0) return;
-  const CellQuality& q = *scene.quality;
-  const VolumeSource& source = *scene.mesh.volume_source();
-  const CellMeasure first = measure_cell(source.cells, q.first_inverted, scene.mesh.position_matrix());
+std::string inverted_cells_warning(const Mesh& mesh, const CellQuality& q, const std::string& output, bool allow,
+                                   const std::string& how_to_allow) {
+  if (q.inverted == 0) return {};
+  const VolumeSource& source = *mesh.volume_source();
+  const CellMeasure first = measure_cell(source.cells, q.first_inverted, mesh.position_matrix());
   const std::string what = format_count(q.inverted) + " inverted cell" + (q.inverted > 1 ? "s" : "") +
                            " (the first: cell " + std::to_string(first.cell) + " in file order, a " +
                            cell_type_name(source.cells.type[first.cell]) + " at " + format_number(first.centroid.x()) +
                            " " + format_number(first.centroid.y()) + " " + format_number(first.centroid.z()) +
                            ", volume " + format_number(first.volume) + ")";
   if (!allow)
-    throw InputError(At{output}, "the result has " + what +
-                                     "; nothing is written. Use smaller moves, or --allow-inverted (\"allow_inverted\": "
-                                     "true in the script) to write it anyway");
-  scene.warnings.push_back(output + ": written with " + what + ", as allowed");
+    throw InputError(At{output}, "the result has " + what + "; nothing is written. Use smaller moves, or " +
+                                     how_to_allow + " to write it anyway");
+  return output + ": written with " + what + ", as allowed";
+}
+
+void check_inverted_cells(Scene& scene, const std::string& output, bool allow) {
+  if (!scene.quality) return;
+  const std::string warning = inverted_cells_warning(scene.mesh, *scene.quality, output, allow,
+                                                     "--allow-inverted (\"allow_inverted\": true in the script)");
+  if (!warning.empty()) scene.warnings.push_back(warning);
 }
 
 }  // namespace ffd

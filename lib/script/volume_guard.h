@@ -26,9 +26,14 @@ nlohmann::ordered_json guard_scene(Scene& scene);
 /// The guard's line for the console ("cells: 0 inverted, min scaled Jacobian 0.412").
 std::string guard_line(const CellQuality& quality);
 
-/// After the last step: a result with inverted cells is refused (InputError naming the
-/// count and the first cell, so nothing is written), or with `allow` written with a
-/// warning on scene.warnings.
+/// A mesh about to be written at `output` whose guard verdict is `quality`: with inverted
+/// cells it is refused (InputError naming the count and the first cell, so nothing is
+/// written; the message ends "Use smaller moves, or `how_to_allow` to write it anyway"), or
+/// with `allow` the warning to give is returned. Empty when none is inverted.
+std::string inverted_cells_warning(const Mesh& mesh, const CellQuality& quality, const std::string& output, bool allow,
+                                   const std::string& how_to_allow);
+
+/// The same after a run's last step, on scene.quality; the warning goes on scene.warnings.
 void check_inverted_cells(Scene& scene, const std::string& output, bool allow);
 
 }  // namespace ffd

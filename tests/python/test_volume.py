@@ -199,6 +199,33 @@ def test_the_script_can_allow_inverted_cells(run_cli, tmp_path):
     assert "warning" in r.stderr and "inverted cell" in r.stderr
 
 
+# The Python module on a volume mesh: read, moved through the vertices view or a run,
+# written back; inverted cells refused as the CLI refuses them, unless allowed.
+def test_the_python_module_writes_volume_meshes_and_refuses_inverted_cells(tmp_path):
+    import ffdtool
+    source = str(tmp_path / "blocks.vtu")
+    meshio.write(source, corpus.hex_and_tet_blocks(), binary=True, compression=None)
+    mesh = ffdtool.read(source)
+    mesh.write(tmp_path / "same.vtu")
+    assert open(tmp_path / "same.vtu", "rb").read() == open(source, "rb").read()
+    big = moved([0, 0, -12], index=(1, 1, 1), basis="bernstein", cells=(2, 2, 2))
+    out, stats = ffdtool.run(mesh, big)
+    assert stats["steps"][1]["guard"]["inverted_cells"] > 0
+    with pytest.raises(ffdtool.InputError) as refused:
+        out.write(tmp_path / "no.vtu")
+    assert "inverted cell" in str(refused.value) and "allow_inverted=True" in str(refused.value)
+    assert not (tmp_path / "no.vtu").exists()
+    with pytest.warns(ffdtool.FfdWarning, match="as allowed"):
+        out.write(tmp_path / "yes.vtu", allow_inverted=True)
+    assert np.array_equal(meshio.read(tmp_path / "yes.vtu").points, out.vertices)
+    # Moved through the view: a node of the first hexahedron pulled through its opposite face.
+    hexes = corpus.hex_and_tet_blocks().cells[0].data
+    mesh.vertices[hexes[0][6]] = mesh.vertices[hexes[0][0]] - 0.5
+    with pytest.raises(ffdtool.InputError, match="the first: cell 0 in file order"):
+        mesh.write(tmp_path / "no.vtu")
+    assert not (tmp_path / "no.vtu").exists()
+
+
 @pytest.mark.parametrize("encoding", ["ascii", "binary"])
 def test_an_openfoam_case_rewrites_points_and_copies_every_other_file(encoding, data, run_cli, tmp_path):
     case = os.path.join(data, "volume", "cavity_" + encoding)
