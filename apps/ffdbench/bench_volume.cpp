@@ -12,6 +12,8 @@
 #include <fstream>
 #include <map>
 
+#include <unistd.h>
+
 #include "bench.h"
 #include "child_run.h"
 #include "common/errors.h"
@@ -54,6 +56,7 @@ json format_row(const std::string& ffdtool, const TempFolder& dir, const std::st
   const std::string file = peer["file"].get<std::string>();
   const std::vector<std::string> argv = {ffdtool, "run", dir.file(file), script, "-o", dir.file("out_" + file),
                                          "--stats", stats_path, "--quiet"};
+  ::sync();  // the writes before (meshio's files, the last row's output) go to disk first, not during the run
   const ChildRun run = run_measured(argv, dir.path.string());
   if (!run.ok) throw InputError("ffdtool run failed on " + file + ": " + last_line(run.err));
   std::ifstream is(stats_path);
