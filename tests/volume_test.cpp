@@ -185,6 +185,46 @@ TEST(CellQuality, OnAValidMeshTheWorstCellsAreTheLoops) {
   omp_set_num_threads(team);
 }
 
+// The guard of a run's steps: after a move, only blocks of cells with a moved node are
+// measured again, and the verdict is a fresh one's, field for field.
+TEST(CellQuality, AVerdictUpdatedAfterAMoveIsAFreshOnes) {
+  VolumeCells cells;
+  const std::uint32_t n = 60000;  // tetrahedra, 4 blocks
+  Eigen::Matrix3Xd points(3, 4 * n);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (std::uint32_t c = 0; c < n; ++c) {
+    const std::uint32_t ids[4] = {4 * c, 4 * c + 1, 4 * c + 2, 4 * c + 3};
+    points.col(ids[0]) = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    points.col(ids[1]) = points.col(ids[0]) + Eigen::Vector3d(1, 0, 0);
+    points.col(ids[2]) = points.col(ids[0]) + Eigen::Vector3d(0, 1, 0);
+    points.col(ids[3]) = points.col(ids[0]) + Eigen::Vector3d(u(rng), u(rng), 0.5 + u(rng));
+    cells.add(cell_type::kTetra, ids, 4);
+  }
+  CellQualityCache cache;
+  const auto expect_same = [&](const CellQuality& a, const CellQuality& b) {
+    EXPECT_EQ(a.checked, b.checked);
+    EXPECT_EQ(a.inverted, b.inverted);
+    EXPECT_EQ(a.first_inverted, b.first_inverted);
+    EXPECT_EQ(a.min_scaled_jacobian, b.min_scaled_jacobian);
+    ASSERT_EQ(a.worst.size(), b.worst.size());
+    for (std::size_t i = 0; i < a.worst.size(); ++i) {
+      EXPECT_EQ(a.worst[i].cell, b.worst[i].cell);
+      EXPECT_EQ(a.worst[i].scaled_jacobian, b.worst[i].scaled_jacobian);
+    }
+  };
+  expect_same(cell_quality(cells, points, cache), cell_quality(cells, points));
+  points(2, 4 * 50000 + 3) = -5;  // cell 50,000 turned over: one block changes
+  const CellQuality after = cell_quality(cells, points, cache);
+  EXPECT_EQ(after.inverted, 1u);
+  EXPECT_EQ(after.first_inverted, 50000u);
+  expect_same(after, cell_quality(cells, points));
+  points(2, 4 * 50000 + 3) = points(2, 4 * 50000) + 1;  // turned back, and a cell of the first block squashed
+  points(2, 4 * 10 + 3) = points(2, 4 * 10) + 1e-3;
+  expect_same(cell_quality(cells, points, cache), cell_quality(cells, points));
+  EXPECT_EQ(cell_quality(cells, points, cache).worst.front().cell, 10u);
+}
+
 const char kSu2[] =
     "% a cube split in a hexahedron and a wedge-free tet corner\n"
     "NDIME= 3\n"

@@ -215,7 +215,7 @@ void trim_worst(std::vector<CellMeasure>& list, std::size_t keep) {
 }
 
 // Merges one block's verdict into the total.
-void merge(CellQuality& total, CellQuality& part, std::size_t keep) {
+void merge(CellQuality& total, const CellQuality& part, std::size_t keep) {
   if (part.inverted && (!total.inverted || part.first_inverted < total.first_inverted))
     total.first_inverted = part.first_inverted;
   total.checked += part.checked;
@@ -289,21 +289,59 @@ CellQuality measure_block(const VolumeCells& cells, const Eigen::Matrix3Xd& posi
   return part;
 }
 
+constexpr std::size_t kBlock = 1 << 14;  // cells; fixed blocks: the same result for any thread count
+
+// Whether a cell of [first, end) has a node marked in `moved`.
+bool block_moved(const VolumeCells& cells, const std::vector<char>& moved, std::size_t first, std::size_t end) {
+  for (std::uint64_t k = cells.offset[first]; k < cells.offset[end]; ++k)
+    if (moved[cells.node[k]]) return true;
+  for (std::size_t c = first; c < end && !cells.face_offset.empty(); ++c)  // a polyhedron's faces name nodes too
+    if (cells.type[c] == cell_type::kPolyhedron)
+      for (std::uint64_t k = cells.face_offset[c]; k < (c + 1 < cells.size() ? cells.face_offset[c + 1] : cells.face.size()); ++k)
+        if (moved[cells.face[k]]) return true;
+  return false;
+}
+
+// Which nodes are not where they were (a node's flag, for a cheap look-up per cell node).
+std::vector<char> moved_nodes(const Eigen::Matrix3Xd& now, const Eigen::Matrix3Xd& before) {
+  std::vector<char> moved(static_cast<std::size_t>(now.cols()));
+  for (Eigen::Index i = 0; i < now.cols(); ++i) moved[static_cast<std::size_t>(i)] = now.col(i) != before.col(i);
+  return moved;
+}
+
+// Measures the blocks of cells (all, or those with a node marked in `moved`) into `parts`
+// and merges them.
+CellQuality measure_blocks(const VolumeCells& cells, const Eigen::Matrix3Xd& positions, std::size_t worst,
+                           const std::vector<char>* moved, std::vector<CellQuality>& parts) {
+  const std::size_t n = cells.size();
+  parts.resize((n + kBlock - 1) / kBlock);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::int64_t b = 0; b < static_cast<std::int64_t>(parts.size()); ++b) {
+    const std::size_t first = static_cast<std::size_t>(b) * kBlock, end = std::min(n, first + kBlock);
+    if (moved && !block_moved(cells, *moved, first, end)) continue;  // its verdict stands
+    parts[static_cast<std::size_t>(b)] = measure_block(cells, positions, worst, first, end);
+  }
+  CellQuality total;
+  for (const CellQuality& part : parts) merge(total, part, worst);
+  for (CellMeasure& m : total.worst) m = measure_cell(cells, m.cell, positions);  // with its centroid
+  return total;
+}
+
 }  // namespace
 
 CellQuality cell_quality(const VolumeCells& cells, const Eigen::Matrix3Xd& positions, std::size_t worst) {
-  const std::size_t n = cells.size();
-  constexpr std::size_t kBlock = 1 << 14;  // fixed blocks: the same result for any thread count
-  const std::int64_t blocks = static_cast<std::int64_t>((n + kBlock - 1) / kBlock);
-  std::vector<CellQuality> parts(static_cast<std::size_t>(blocks));
-#pragma omp parallel for schedule(dynamic, 1)
-  for (std::int64_t b = 0; b < blocks; ++b) {
-    const std::size_t first = static_cast<std::size_t>(b) * kBlock;
-    parts[static_cast<std::size_t>(b)] = measure_block(cells, positions, worst, first, std::min(n, first + kBlock));
-  }
-  CellQuality total;
-  for (CellQuality& part : parts) merge(total, part, worst);
-  for (CellMeasure& m : total.worst) m = measure_cell(cells, m.cell, positions);  // with its centroid
+  std::vector<CellQuality> parts;
+  return measure_blocks(cells, positions, worst, nullptr, parts);
+}
+
+CellQuality cell_quality(const VolumeCells& cells, const Eigen::Matrix3Xd& positions, CellQualityCache& cache,
+                         std::size_t worst) {
+  const bool reuse = cache.blocks.size() == (cells.size() + kBlock - 1) / kBlock && cache.worst == worst &&
+                     cache.positions.cols() == positions.cols();
+  const std::vector<char> moved = reuse ? moved_nodes(positions, cache.positions) : std::vector<char>();
+  CellQuality total = measure_blocks(cells, positions, worst, reuse ? &moved : nullptr, cache.blocks);
+  cache.positions = positions;
+  cache.worst = worst;
   return total;
 }
 

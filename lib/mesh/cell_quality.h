@@ -58,4 +58,17 @@ inline bool inverted(const CellMeasure& m) { return !(m.volume > 0) || !(m.scale
 /// `worst` cells are kept (0: none).
 CellQuality cell_quality(const VolumeCells& cells, const Eigen::Matrix3Xd& positions, std::size_t worst = 5);
 
+/// The last verdict's positions and its per-block parts (the cells in fixed blocks).
+struct CellQualityCache {
+  Eigen::Matrix3Xd positions;
+  std::vector<CellQuality> blocks;
+  std::size_t worst = 0;
+};
+
+/// The same, measuring again only the blocks of cells with a node that moved since the
+/// verdict in `cache` (all of them when it is empty); `cache` becomes this verdict's.
+/// The result is cell_quality's, bit for bit: a block's verdict depends on its cells only.
+CellQuality cell_quality(const VolumeCells& cells, const Eigen::Matrix3Xd& positions, CellQualityCache& cache,
+                         std::size_t worst = 5);
+
 }  // namespace ffd

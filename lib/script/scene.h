@@ -43,9 +43,10 @@ struct Scene {
   std::vector<StagedFile> staged;
   std::vector<std::string> warnings;
   /// A volume mesh's last guard verdict (script/volume_guard.h), empty before the first,
-  /// and the positions it judged (a step that moved no node keeps the verdict).
+  /// and the positions and per-block verdicts it came from (a step measures again only
+  /// the blocks of cells whose nodes it moved; one that moved no node keeps the verdict).
   std::optional<CellQuality> quality;
-  Eigen::Matrix3Xd quality_positions;
+  CellQualityCache quality_cache;
 
   /// Write options that carry file normals through the warp stack.
   WriteOptions write_options() const;

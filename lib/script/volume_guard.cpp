@@ -49,10 +49,8 @@ nlohmann::ordered_json guard_scene(Scene& scene) {
   if (!source) return nullptr;
   Stopwatch clock;
   const Eigen::Matrix3Xd& positions = scene.mesh.position_matrix();
-  if (!scene.quality || scene.quality_positions != positions) {
-    scene.quality = cell_quality(source->cells, positions);
-    scene.quality_positions = positions;
-  }
+  if (!scene.quality || scene.quality_cache.positions != positions)
+    scene.quality = cell_quality(source->cells, positions, scene.quality_cache);
   const CellQuality& q = *scene.quality;
   nlohmann::ordered_json worst = nlohmann::ordered_json::array();
   for (const CellMeasure& m : q.worst)
