@@ -31,6 +31,7 @@
 #include "mesh/obj_io.h"
 #include "mesh/obj_source.h"
 #include "mesh/off_io.h"
+#include "mesh/ply_io.h"
 #include "script/runner.h"
 #include "test_meshes.h"
 #include "warp/bspline_lattice.h"
@@ -400,6 +401,17 @@ TEST(OffIo, RoundTripIsExactAndStableForEveryVariant) {
     EXPECT_EQ(again.faces(), mesh.faces());
     EXPECT_EQ(write_to_string(again, MeshFormat::Off), first);
   }
+}
+
+// A NOFF point cloud: its normals are its points' own, written back as read by OFF and as
+// the same values by PLY (they were zeros: a cloud's points are in no face).
+TEST(OffIo, APointCloudKeepsItsNormals) {
+  const std::string cloud = "NOFF\n3 0 0\n0 0 0 0 0 1\n1 0 0 0 1 0\n0 1 0 0.6 0 0.8\n";
+  const Mesh mesh = build_mesh(read_off(cloud, "cloud.off"), "cloud.off");
+  EXPECT_EQ(write_to_string(mesh, MeshFormat::Off), cloud);
+  const Mesh ply = build_mesh(read_ply(write_to_string(mesh, MeshFormat::Ply), "cloud.ply"), "cloud.ply");
+  ASSERT_EQ(ply.file_normals().size(), 3u);
+  EXPECT_EQ(ply.file_normals()[2], Eigen::Vector3d(0.6, 0, 0.8));
 }
 
 TEST(OffIo, ReadsCountsOnTheHeaderLineAndCrlf) {

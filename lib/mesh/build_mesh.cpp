@@ -49,6 +49,7 @@ Mesh build_mesh(PolygonSoup soup, const std::string& file, bool defer_normals) {
   mesh.header() = std::move(soup.header);
   mesh.file_uv_count = mesh.uvs().size();
   mesh.file_normal_count = mesh.file_normals().size();
+  mesh.file_normals_per_vertex = soup.normals_per_vertex;
   mesh.set_elements(std::move(soup.elements));
   mesh.set_vertices(std::move(positions), normals);
   return mesh;

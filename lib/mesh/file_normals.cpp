@@ -69,9 +69,9 @@ VertexFileNormals vertex_file_normals(const Mesh& mesh, const NormalTransform& t
     const std::uint32_t v = el.corners[c];
     if (!out.has[v] && el.corner_normals[c] >= 0) take(v, mesh.file_normals()[el.corner_normals[c]]);
   }
-  // A PLY's normals are one per vertex (its reader makes the table so): a vertex in no
-  // element, a point of a cloud, has its own too.
-  if (mesh.ply_source_as_read() && mesh.file_normals().size() == mesh.num_vertices())
+  // A PLY's or NOFF's normals are one per vertex (their readers make the table so): a
+  // vertex in no element, a point of a cloud, has its own too.
+  if ((mesh.file_normals_per_vertex || mesh.ply_source_as_read()) && mesh.file_normals().size() == mesh.num_vertices())
     for (std::uint32_t v = 0; v < out.has.size(); ++v)
       if (!out.has[v]) take(v, mesh.file_normals()[v]);
   return out;

@@ -202,6 +202,9 @@ public:
   /// are dropped again when no corner uses them.
   std::size_t file_uv_count = 0;
   std::size_t file_normal_count = 0;
+  /// The file's normal table holds one normal per vertex (NOFF, PLY): a vertex in no
+  /// element, a point of a cloud, has its normal too.
+  bool file_normals_per_vertex = false;
   /// One colour per vertex (RGB in [0,1]), or empty.
   std::vector<Eigen::Vector3f>& colors() { return colors_; }
   const std::vector<Eigen::Vector3f>& colors() const { return colors_; }

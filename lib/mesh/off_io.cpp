@@ -224,6 +224,7 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
 
   soup.positions.reserve(nv);
   if (header.normal) soup.normals.reserve(nv);
+  soup.normals_per_vertex = header.normal;
   const bool plain = fast && !header.normal && !header.color && !header.st;
   std::string_view line;
   while (static_cast<long long>(soup.positions.size()) < nv) {

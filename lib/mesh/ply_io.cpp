@@ -460,6 +460,7 @@ void reserve_columns(const Element& e, PlyElementData& d) {
 void read_vertices(Cursor& cur, const Element& e, const VertexLayout& layout, PlyElementData& d, PolygonSoup& soup) {
   soup.positions.reserve(e.count);
   if (layout.normals()) soup.normals.reserve(e.count);
+  soup.normals_per_vertex = layout.normals();
   if (layout.colors()) soup.colors.reserve(e.count);
   if (layout.uvs()) soup.uvs.reserve(e.count);
   reserve_columns(e, d);

@@ -20,6 +20,7 @@ struct PolygonSoup {
   std::vector<Eigen::Vector3f> colors;      // empty, or one RGB in [0,1] per vertex
   std::vector<Eigen::Vector2d> uvs;         // OBJ vt / OFF st table
   std::vector<Eigen::Vector3d> normals;     // OBJ vn / NOFF / PLY normal table
+  bool normals_per_vertex = false;          // normals[v] is vertex v's (NOFF, PLY), element or not
   MeshElements elements;                    // faces, lines, points in file order
   std::vector<ObjState> groups;             // OBJ o/g/usemtl/s state, one per distinct state
   std::vector<std::string> header;          // OBJ mtllib lines, written back verbatim
