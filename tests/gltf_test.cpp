@@ -22,6 +22,8 @@
 #include <utility>
 #include <vector>
 
+#include <sys/wait.h>
+
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
@@ -60,10 +62,45 @@ const char* const kLattice =
 const char* const kMove =
     R"({"op":"move","lattice":"L","select":{"box":{"min":[0,0,-10],"max":[10,10,10]}},"transform":{"translate":[0.3,0.4,0.1]}})";
 
-// `ffdtool run MESH SCRIPT -o OUT --quiet`; returns the exit code.
+bool is_gltf_path(const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  return ext == ".glb" || ext == ".gltf";
+}
+
+// The error codes Khronos' glTF-Validator reports for a file (tests/gltf/validate.js,
+// with the validator scripts/setup.sh installs), each once.
+std::set<std::string> validator_errors(const std::string& path) {
+  const std::string dir = temp_folder("validator");
+  const std::string command = "node " + quoted(std::string(FFD_SOURCE_DIR) + "/tests/gltf/validate.js") + " " +
+                              quoted(path) + " >" + quoted(dir + "/report.json") + " 2>" + quoted(dir + "/err");
+  const int status = std::system(command.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << path << ": " << read_file(dir + "/err");
+  std::set<std::string> codes;
+  const json report = json::parse(read_file(dir + "/report.json"), nullptr, false);
+  if (report.is_discarded()) {
+    ADD_FAILURE() << path << ": the validator printed no report";
+    return codes;
+  }
+  for (const json& message : report["issues"]["messages"])
+    if (message["severity"] == 0) codes.insert(message["code"].get<std::string>());
+  return codes;
+}
+
+// Every glTF ffdtool writes passes the validator with no error its input did not have.
+void expect_valid_output(const std::string& input, const std::string& output) {
+  const std::set<std::string> out = validator_errors(output);
+  if (out.empty()) return;
+  const std::set<std::string> in = is_gltf_path(input) ? validator_errors(input) : std::set<std::string>();
+  for (const std::string& code : out) EXPECT_TRUE(in.count(code)) << output << ": new validator error " << code;
+}
+
+// `ffdtool run MESH SCRIPT -o OUT --quiet`; returns the exit code. A glTF written is held
+// against the validator.
 int run_ffd(const std::string& mesh, const std::string& script_path, const std::string& out, std::string* err = nullptr,
             const std::string& extra = "--quiet") {
-  return run_tool("run " + quoted(mesh) + " " + quoted(script_path) + " -o " + quoted(out) + " " + extra, nullptr, err);
+  const int code = run_tool("run " + quoted(mesh) + " " + quoted(script_path) + " -o " + quoted(out) + " " + extra, nullptr, err);
+  if (code == 0 && is_gltf_path(out)) expect_valid_output(mesh, out);
+  return code;
 }
 
 // ---------------------------------------------------------------------------------------
