@@ -3,7 +3,9 @@
 // on the bunny; the outputs are compared with checked-in meshes by `ffdtool compare`.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -67,6 +69,48 @@ TEST(RemeshCli, LevelColoursAreWritten) {
   const std::string ply = read_file(dir + "/fig7_grid_extruded_levels.ply");
   EXPECT_NE(ply.find("property uchar red"), std::string::npos);
   EXPECT_NE(ply.find(" 191 191 191"), std::string::npos);  // level 0: light grey
+}
+
+// The remesh step says what it did with each attribute: the grid as a PLY with UVs,
+// colours and a custom property; UVs and colours are interpolated, the custom property
+// cannot follow the new connectivity, and the stats name it, as the output's warning does.
+TEST(RemeshCli, TheStatsSayWhatEachAttributeBecame) {
+  const std::string dir = temp_folder("remesh_attributes");
+  std::string ply = "ply\nformat ascii 1.0\nelement vertex 441\nproperty double x\nproperty double y\nproperty double z\n"
+                    "property float u\nproperty float v\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+                    "property float confidence\nelement face 800\nproperty list uchar int vertex_indices\nend_header\n";
+  std::istringstream obj(read_file(data("grid.obj")));
+  std::string line;
+  int v = 0;
+  while (std::getline(obj, line)) {
+    std::istringstream in(line.substr(line.find(' ') + 1));
+    double x, y, z;
+    int a, b, c;
+    if (line.rfind("v ", 0) == 0 && in >> x >> y >> z)
+      ply += std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(z) + " 0.5 0.25 200 100 50 " +
+             std::to_string(v++ % 7) + "\n";
+    else if (line.rfind("f ", 0) == 0 && std::sscanf(line.c_str(), "f %d/%*d %d/%*d %d/%*d", &a, &b, &c) == 3)
+      ply += "3 " + std::to_string(a - 1) + " " + std::to_string(b - 1) + " " + std::to_string(c - 1) + "\n";
+  }
+  test::write_file(dir + "/grid.ply", ply);
+  std::string err;
+  ASSERT_EQ(run_tool("run " + dir + "/grid.ply " + data("fig7_grid.json") + " -o " + dir + "/out.ply --stats " + dir +
+                         "/stats.json",
+                     nullptr, &err),
+            0)
+      << err;
+  const nlohmann::json stats = nlohmann::json::parse(read_file(dir + "/stats.json"));
+  bool seen = false;
+  for (const auto& step : stats["steps"]) {
+    if (step["op"] != "remesh") continue;
+    seen = true;
+    const std::string interpolated = step["attributes"]["interpolated"].dump();
+    EXPECT_NE(interpolated.find("uv"), std::string::npos) << interpolated;
+    EXPECT_NE(interpolated.find("vertex colors"), std::string::npos) << interpolated;
+    EXPECT_NE(step["attributes"]["dropped"].get<std::string>().find("confidence"), std::string::npos);
+  }
+  EXPECT_TRUE(seen);
+  EXPECT_NE(err.find("confidence"), std::string::npos) << err;  // and the write warns
 }
 
 TEST(RemeshCli, BadRemeshOptionsAreInputErrors) {

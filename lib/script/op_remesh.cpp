@@ -1,6 +1,9 @@
 // The remesh op: adaptive refinement and reversible decimation after the deformations so
 // far (Gain & Dodgson section 4).
+#include <optional>
+
 #include "common/numbers.h"
+#include "mesh/mesh_io.h"
 #include "remesh/adaptive_remesher.h"
 #include "script/op.h"
 
@@ -80,9 +83,38 @@ void RemeshStep::check(ScriptChecks& checks) const {
     checks.fail(p + "/l_max", "\"auto\" takes the smallest lattice cell, but no lattice is created before this step");
 }
 
+// What the remesher did with each attribute the mesh carries (adaptive_remesher.cpp):
+// a new vertex's colour, and a new corner's UV and file normal, come from the split edge's
+// ends; OBJ groups, materials and smoothing are per face, and the faces a split makes
+// inherit them. What the file it was read from holds beyond these cannot follow a change
+// of connectivity: it is named here, and warned about when the output is written.
+nlohmann::ordered_json attribute_policy(const Mesh& mesh) {
+  nlohmann::ordered_json interpolated = nlohmann::ordered_json::array(), kept = nlohmann::ordered_json::array();
+  interpolated.push_back("positions (a new vertex: the edge's rest-space midpoint, through every warp)");
+  if (mesh.has_uvs()) interpolated.push_back("uv (a new corner: the mean of the edge's two corners)");
+  if (mesh.has_file_normals())
+    interpolated.push_back("file normals (a new corner: the normalized mean of the edge's two corners)");
+  if (!mesh.colors().empty()) interpolated.push_back("vertex colors (a new vertex: the mean of the edge's ends)");
+  // The format read (a mesh made from arrays, or a run's result, may have no file).
+  const std::optional<MeshFormat> from =
+      has_mesh_extension(mesh.source()) ? std::optional<MeshFormat>(mesh_format(mesh.source())) : std::nullopt;
+  if (from == MeshFormat::Obj && !mesh.groups().empty())
+    kept.push_back("OBJ groups, materials and smoothing groups (per face, inherited)");
+  std::string dropped;
+  if (from == MeshFormat::Gltf || from == MeshFormat::Glb)
+    dropped = "a glTF output is one plain primitive: the source's nodes, materials and attributes other than "
+              "positions and normals are not kept";
+  else if (from)
+    dropped = unwritten_data(mesh, *from);
+  return {{"interpolated", interpolated},
+          {"kept", kept},
+          {"dropped", dropped.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(dropped)}};
+}
+
 void RemeshStep::run(Scene& scene, StepContext& ctx) const {
   require_surface_mesh(scene.mesh, "remesh");
   const RemeshStats stats = adaptive_remesh(scene.mesh, scene.halfedges, scene.stack, options, ctx.progress);
+  ctx.stats["attributes"] = attribute_policy(scene.mesh);
   ctx.stats["l_max"] = stats.l_max;
   ctx.stats["trigger"] = name_of(kTriggers, options.trigger);
   ctx.stats["split"] = name_of(kSplits, options.longest_edge_first);
