@@ -395,6 +395,14 @@ std::size_t unpack(const Vtu& f, const DataArray& a, std::string_view s, Stored&
   return h + st.size;
 }
 
+// A base64 array's text without the spaces around it.
+std::string_view base64_text(const Vtu& f, const DataArray& a) {
+  std::string_view text = f.bytes.substr(a.begin, a.end - a.begin);
+  while (!text.empty() && is_space(text.front())) text.remove_prefix(1);
+  while (!text.empty() && is_space(text.back())) text.remove_suffix(1);
+  return text;
+}
+
 // Decodes a binary or appended array.
 Stored decode(const Vtu& f, const DataArray& a) {
   Stored st;
@@ -407,11 +415,8 @@ Stored decode(const Vtu& f, const DataArray& a) {
     st.encoded_end = a.begin + used;
     return st;
   }
-  std::size_t lead = 0;
-  while (lead < text.size() && is_space(text[lead])) ++lead;
-  while (text.size() > lead && is_space(text.back())) text.remove_suffix(1);
-  text.remove_prefix(lead);
-  st.encoded_begin = a.begin + lead;
+  text = base64_text(f, a);
+  st.encoded_begin = static_cast<std::size_t>(text.data() - f.bytes.data());
   st.encoded_end = st.encoded_begin + text.size();
   const std::size_t bad = decode_base64(text, st.decoded);
   if (bad != kNone) fail(f, st.encoded_begin + bad, quoted(a) + " is not valid base64");
@@ -469,9 +474,7 @@ struct PlainBase64 {
 };
 
 std::optional<PlainBase64> plain_base64(const Vtu& f, const DataArray& a) {
-  std::string_view text = f.bytes.substr(a.begin, a.end - a.begin);
-  while (!text.empty() && is_space(text.front())) text.remove_prefix(1);
-  while (!text.empty() && is_space(text.back())) text.remove_suffix(1);
+  const std::string_view text = base64_text(f, a);
   const std::size_t h = f.layout.header_size, chars = (h + 2) / 3 * 4;
   if (text.size() < chars + 4 || text.size() % 4 != 0) return std::nullopt;
   PlainBase64 p;
