@@ -136,17 +136,32 @@ void patch_meshes(Json& doc, const tinygltf::Model& model) {
   }
 }
 
+// Views the write re-pointed (a repack, gltf_repack.h): their buffer and offset.
+void patch_views(Json& doc, const tinygltf::Model& model) {
+  Json& views = array_at(doc, "bufferViews");
+  for (std::size_t i = 0; i < views.size() && i < model.bufferViews.size(); ++i) {
+    const tinygltf::BufferView& v = model.bufferViews[i];
+    Json& j = views.at(i);
+    if (number_or(j, "buffer", -1) != v.buffer) j["buffer"] = v.buffer;
+    if (number_or(j, "byteOffset", 0) != static_cast<long long>(v.byteOffset)) set_or_erase(j, "byteOffset", v.byteOffset, 0);
+  }
+}
+
 void patch_buffers(Json& doc, const tinygltf::Model& model, const std::vector<BufferUri>& uris) {
-  if (model.buffers.empty()) return;
-  Json& buffers = array_at(doc, "buffers");
+  if (model.buffers.empty() && count_of(doc, "buffers") == 0) return;
+  const Json source = array_at(doc, "buffers");
+  Json& buffers = doc["buffers"];
+  buffers = Json::array();
   for (std::size_t i = 0; i < model.buffers.size(); ++i) {
-    if (i >= buffers.size()) buffers.push_back(Json::object());
-    Json& j = buffers.at(i);
+    const int from = uris[i].source;
+    buffers.push_back(from >= 0 && static_cast<std::size_t>(from) < source.size() ? source.at(from) : Json::object());
+    Json& j = buffers.back();
     if (number_or(j, "byteLength", -1) != static_cast<long long>(model.buffers[i].data.size()))
       j["byteLength"] = model.buffers[i].data.size();
     if (uris[i].kind == BufferUri::Kind::Erase) j.erase("uri");
     if (uris[i].kind == BufferUri::Kind::Set) j["uri"] = uris[i].uri;
   }
+  if (buffers.empty()) doc.erase("buffers");
 }
 
 // Removes extension `name` from `object`'s "extensions" (and that, once empty).
@@ -281,6 +296,7 @@ std::string patched_gltf_json(const GltfScene& scene, const tinygltf::Model& mod
   Json doc = Json::parse(scene.json, nullptr, false);
   if (!doc.is_object()) throw IoError("the glTF source document no longer parses; cannot write it back");
   patch_accessors(doc, model);
+  patch_views(doc, model);
   patch_meshes(doc, model);
   patch_buffers(doc, model, uris);
   for (const std::string& name : scene.decoded_extensions) erase_decoded_extension(doc, name);

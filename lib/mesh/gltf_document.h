@@ -48,14 +48,17 @@ std::string loadable_gltf(std::string_view bytes, bool binary, LoadFixes& fixes)
 /// without one whose top-level collections are dictionaries (glTF 1.0's), else empty.
 std::string gltf_json_version(const std::string& json);
 
-/// What a patched document says of buffer i's "uri".
+/// What a patched document says of buffer i's "uri", and which of the document's buffers
+/// it is (`source`; a write may drop buffers, gltf_repack.h).
 struct BufferUri {
   enum class Kind { Keep, Erase, Set } kind = Kind::Keep;  // Erase: a GLB's BIN chunk
   std::string uri;                                           // for Set
+  int source = -1;                                           // -1: a new buffer
 };
 
-/// `scene.json` with what `model` (the scene's model after a deformation: same arrays,
-/// possibly longer) changed, and buffer i's uri as `uris[i]` says. `indent` < 0 writes
+/// `scene.json` with what `model` (the scene's model after a deformation: the same
+/// arrays, possibly longer, but for buffers a repack dropped) changed: views re-pointed,
+/// and buffer i is the document's `uris[i].source` with the uri `uris[i]` says. `indent` < 0 writes
 /// compact JSON. \throw IoError if the source document does not parse (tinygltf read it).
 std::string patched_gltf_json(const GltfScene& scene, const tinygltf::Model& model, const std::vector<BufferUri>& uris,
                               int indent);

@@ -13,6 +13,7 @@
 #include "mesh/gltf_accessors.h"
 #include "mesh/gltf_document.h"
 #include "mesh/gltf_io.h"
+#include "mesh/gltf_repack.h"
 #include "mesh/gltf_scene.h"
 
 namespace ffd {
@@ -207,29 +208,31 @@ void write_plain_json(std::ostream& os, tinygltf::Model& model, const std::strin
 
 namespace {
 
-// How each buffer of the deformed model goes out (gltf_document.h). A GLB's buffer 0 is
-// its BIN chunk. A buffer that was a data URI and is unchanged keeps its URI as read;
-// with companions, a .gltf's other buffers go to files named after `stem`; the rest are
-// embedded as data URIs. (Decoding may have written into a data-URI buffer: then none is
-// kept.)
-std::vector<BufferUri> buffer_uris(const GltfScene& scene, const tinygltf::Model& model, bool binary,
-                                   const std::string& stem, std::vector<CompanionFile>* companions) {
+// How each buffer of the deformed model goes out (gltf_document.h); `origin` is each
+// buffer's index in the source (empty: the same). A GLB's buffer 0 is its BIN chunk. A
+// buffer that was a data URI and is unchanged keeps its URI as read; with companions, a
+// .gltf's other buffers go to files named after `stem`; the rest are embedded as data
+// URIs. (Decoding may have written into a data-URI buffer: then none is kept.)
+std::vector<BufferUri> buffer_uris(const GltfScene& scene, const tinygltf::Model& model, const std::vector<int>& origin,
+                                   bool binary, const std::string& stem, std::vector<CompanionFile>* companions) {
   std::vector<BufferUri> uris(model.buffers.size());
   std::size_t files = 0;
   for (std::size_t i = 0; i < uris.size(); ++i) {
     const std::vector<unsigned char>& data = model.buffers[i].data;
-    const bool was_embedded = i < scene.buffer_embedded.size() && scene.buffer_embedded[i];
+    const std::size_t source = origin.empty() ? i : static_cast<std::size_t>(origin[i]);
+    const bool was_embedded = source < scene.buffer_embedded.size() && scene.buffer_embedded[source];
     if (binary && i == 0) {
       uris[i].kind = BufferUri::Kind::Erase;
-    } else if (was_embedded && scene.decoded_extensions.empty() && data == scene.model.buffers[i].data) {
+    } else if (was_embedded && scene.decoded_extensions.empty() && data == scene.model.buffers[source].data) {
       uris[i].kind = BufferUri::Kind::Keep;
     } else if (!binary && companions && !was_embedded) {
       const std::string name = stem + (files++ == 0 ? "" : "_" + std::to_string(files - 1)) + ".bin";
-      uris[i] = {BufferUri::Kind::Set, name};
+      uris[i] = {BufferUri::Kind::Set, name, -1};
       companions->push_back({name, data});
     } else {
       uris[i] = {BufferUri::Kind::Set, data_uri(data.data(), data.size(), "application/octet-stream")};
     }
+    uris[i].source = static_cast<int>(source);
   }
   return uris;
 }
@@ -237,8 +240,9 @@ std::vector<BufferUri> buffer_uris(const GltfScene& scene, const tinygltf::Model
 // The source document patched with the deformed model (gltf_document.h).
 void write_source_gltf(std::ostream& os, const Mesh& mesh, const GltfScene& scene, const NormalTransform& transform,
                        bool binary, const std::string& stem, std::vector<CompanionFile>* companions) {
-  const tinygltf::Model model = deformed_model(mesh, scene, transform);
-  const std::vector<BufferUri> uris = buffer_uris(scene, model, binary, stem, companions);
+  tinygltf::Model model = deformed_model(mesh, scene, transform);
+  const std::vector<int> origin = repack_meshopt_buffers(model, binary);
+  const std::vector<BufferUri> uris = buffer_uris(scene, model, origin, binary, stem, companions);
   if (!binary) {
     os << patched_gltf_json(scene, model, uris, 2) << "\n";
     return;

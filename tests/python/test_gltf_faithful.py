@@ -125,7 +125,8 @@ def stripped(doc, source, decoded=()):
     deformed accessors' data, views, types and bounds (every accessor of a Draco primitive),
     the buffers' URIs and lengths, what was appended, the `decoded` extensions, and which
     copy of a mesh a split node draws (the copy must be its mesh but for POSITION and
-    NORMAL)."""
+    NORMAL). A decoded meshopt file's buffers are repacked: then which buffer a view is in,
+    and where, and the buffers themselves go too."""
     d = without_extensions(doc, decoded)
     counts = {k: len(source.get(k, [])) for k in ("accessors", "bufferViews", "meshes", "buffers")}
     for node, original in zip(d.get("nodes", []), source.get("nodes", [])):
@@ -146,7 +147,24 @@ def stripped(doc, source, decoded=()):
     for b in d.get("buffers", []):
         b.pop("uri", None)
         b.pop("byteLength", None)
+    if "EXT_meshopt_compression" in decoded:
+        for v in d.get("bufferViews", []):
+            v.pop("buffer", None)
+            v.pop("byteOffset", None)
+        d.pop("buffers", None)
     return d
+
+
+def assert_repacked(doc, buffers, binary):
+    """A decoded meshopt file written back holds only what its views cover (no compressed
+    stream, no fallback without data), and a GLB has one buffer, its BIN chunk."""
+    assert all("uri" in b or (binary and i == 0) for i, b in enumerate(doc["buffers"]))
+    if binary:
+        assert len(doc["buffers"]) == 1
+    views = doc["bufferViews"]
+    assert sum(len(b) for b in buffers) <= sum(v["byteLength"] + 7 for v in views)
+    for v in views:
+        assert v["byteOffset"] % 4 == 0 and v["byteOffset"] + v["byteLength"] <= len(buffers[v["buffer"]])
 
 
 def validator_errors(path):
@@ -245,6 +263,13 @@ def test_compressed_files_are_read_and_written_plain(coding, motion, ext, compre
     out_doc, out_buf = load(out)
     decoded = (extension,) if extension else ()
     assert stripped(out_doc, src_doc, decoded) == stripped(src_doc, src_doc, decoded)
+    if coding == "meshopt":
+        assert_repacked(out_doc, out_buf, ext == ".glb")
+    if coding != "quantized":  # float data: the file's own bytes, read here, are the run's
+        plain_doc, plain_buf = load(tmp_path / ("plain" + ext))
+        def positions(d, b):
+            return vec3(d, b, d["meshes"][0]["primitives"][0]["attributes"]["POSITION"])
+        assert farthest_apart(positions(out_doc, out_buf), positions(plain_doc, plain_buf)) <= tolerance
     assert "extensions" not in json.dumps(without_extensions(out_doc, ["KHR_mesh_quantization"]))
     position = out_doc["accessors"][out_doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
     if coding == "quantized":  # what the deformation left is the file's; what it moved is float
