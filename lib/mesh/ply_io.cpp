@@ -226,6 +226,15 @@ public:
   /// One value of type t (integers exactly, float32 as a float).
   double scalar(Type t) { return ascii() ? ascii_scalar(t) : binary_scalar(t); }
 
+  /// Whether a binary file's values are in the other byte order.
+  bool swapped() const { return swap_; }
+  /// The next n bytes of a binary file, which has them (left() >= n).
+  const unsigned char* take(std::size_t n) {
+    const auto* p = reinterpret_cast<const unsigned char*>(bytes_.data()) + pos_;
+    pos_ += n;
+    return p;
+  }
+
   /// The length of list p, checked against the bytes left.
   std::uint64_t list_length(const Property& p) {
     const double n = scalar(p.count_type);
@@ -269,20 +278,9 @@ private:
     const std::size_t n = type_size(t);
     if (left() < n) fail("the file ends inside it" + expected());
     unsigned char b[8];
-    std::memcpy(b, bytes_.data() + pos_, n);
+    ply_copy(b, reinterpret_cast<const unsigned char*>(bytes_.data()) + pos_, n, swap_);
     pos_ += n;
-    if (swap_) std::reverse(b, b + n);
-    switch (t) {
-      case Type::Int8: { std::int8_t v; std::memcpy(&v, b, 1); return v; }
-      case Type::Uint8: return b[0];
-      case Type::Int16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-      case Type::Uint16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-      case Type::Int32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-      case Type::Uint32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
-      case Type::Float32: { float v; std::memcpy(&v, b, 4); return v; }
-      case Type::Float64: { double v; std::memcpy(&v, b, 8); return v; }
-    }
-    return 0;
+    return ply_load(t, b);
   }
 
   double ascii_scalar(Type t) {
@@ -448,6 +446,69 @@ void read_item(Cursor& cur, const Element& e, PlyElementData& d, double* slots, 
   }
 }
 
+// One scalar property of a binary element read as a row of fixed size.
+struct RowField {
+  std::size_t offset = 0, size = 0;
+  Type type = Type::Uint8;
+  int slot = kNone;
+  unsigned char* kept = nullptr;  // its column's values, or null (x y z, nx ny nz)
+  const Property* property = nullptr;
+};
+
+// The fields of e's rows (every property a scalar), each kept column sized for e's items.
+std::vector<RowField> row_fields(const Element& e, PlyElementData& d, std::size_t& row) {
+  std::vector<RowField> fields;
+  row = 0;
+  for (std::size_t k = 0; k < e.properties.size(); ++k) {
+    const Property& p = e.properties[k];
+    PlyColumn& c = d.columns[k];
+    RowField f{row, type_size(p.type), p.type, p.slot, nullptr, &p};
+    if (c.role != PlyColumn::Role::Position && c.role != PlyColumn::Role::Normal) {
+      c.values.resize(e.count * f.size);
+      f.kept = c.values.data();
+    }
+    row += f.size;
+    fields.push_back(f);
+  }
+  return fields;
+}
+
+// A binary element whose properties are all scalars, read as rows of fixed size: each
+// kept value's bytes go to its column as they are (in native order), and only the vertex
+// slots become doubles (checked finite), which `item(i, slots)` takes. Returns false,
+// having read nothing, for an ASCII file or an element with a list. (read_ply has checked
+// that the element's items fit in the bytes left.)
+template <class Item>
+bool read_scalar_rows(Cursor& cur, const Element& e, PlyElementData& d, Item&& item) {
+  if (cur.ascii() || e.properties.empty()) return false;
+  std::size_t row = 0;
+  for (const Property& p : e.properties) {
+    if (p.list) return false;
+    row += type_size(p.type);
+  }
+  if (e.count > cur.left() / row) cur.fail("the file ends inside element " + e.name);  // not reached: see above
+  const std::vector<RowField> fields = row_fields(e, d, row);
+  const unsigned char* base = cur.take(e.count * row);
+  const bool swap = cur.swapped();
+  double slots[kSlots] = {};
+  for (std::uint64_t i = 0; i < e.count; ++i, base += row) {
+    for (const RowField& f : fields) {
+      unsigned char b[8];
+      ply_copy(b, base + f.offset, f.size, swap);
+      if (f.kept) ply_copy(f.kept + i * f.size, b, f.size, false);
+      if (f.slot == kNone) continue;
+      slots[f.slot] = ply_load(f.type, b);
+      if (!std::isfinite(slots[f.slot])) {
+        cur.at(&e, i);
+        cur.at(f.property);
+        cur.fail(std::string(kSlotNames[f.slot]) + " is not finite (" + format_number(slots[f.slot]) + ")");
+      }
+    }
+    item(i, slots);
+  }
+  return true;
+}
+
 // Reserves d's columns for e's items (e.count is checked against the bytes left).
 void reserve_columns(const Element& e, PlyElementData& d) {
   for (PlyColumn& c : d.columns)
@@ -463,12 +524,7 @@ void read_vertices(Cursor& cur, const Element& e, const VertexLayout& layout, Pl
   soup.normals_per_vertex = layout.normals();
   if (layout.colors()) soup.colors.reserve(e.count);
   if (layout.uvs()) soup.uvs.reserve(e.count);
-  reserve_columns(e, d);
-  double v[kSlots] = {};
-  std::vector<double> unused;
-  for (std::uint64_t i = 0; i < e.count; ++i) {
-    cur.at(&e, i);
-    read_item(cur, e, d, v, unused);
+  const auto add = [&](std::uint64_t, const double* v) {
     soup.positions.emplace_back(v[kX], v[kY], v[kZ]);
     if (layout.normals()) soup.normals.emplace_back(v[kNx], v[kNy], v[kNz]);
     if (layout.colors()) {
@@ -477,6 +533,15 @@ void read_vertices(Cursor& cur, const Element& e, const VertexLayout& layout, Pl
                                static_cast<float>(v[kBlue] * scale));
     }
     if (layout.uvs()) soup.uvs.emplace_back(v[kU], v[kV]);
+  };
+  if (read_scalar_rows(cur, e, d, add)) return;
+  reserve_columns(e, d);
+  double v[kSlots] = {};
+  std::vector<double> unused;
+  for (std::uint64_t i = 0; i < e.count; ++i) {
+    cur.at(&e, i);
+    read_item(cur, e, d, v, unused);
+    add(i, v);
   }
 }
 
@@ -575,7 +640,7 @@ PolygonSoup read_ply(std::string_view bytes, const std::string& file) {
       read_vertices(cur, e, layout, d, soup);
     } else if (e.name == "face" || e.name == "tristrips") {
       read_polygons(cur, e, vertex->count, layout, d, soup);
-    } else {
+    } else if (!read_scalar_rows(cur, e, d, [](std::uint64_t, const double*) {})) {
       reserve_columns(e, d);
       double unused[kSlots];
       std::vector<double> indices;

@@ -43,24 +43,8 @@ void ply_store(PlyType type, double x, unsigned char* out) {
   }
 }
 
-std::vector<std::string> PlySource::carried_only_here() const {
-  std::vector<std::string> names;
-  for (const PlyElementData& e : elements) {
-    const bool known = &e == &elements[vertex_element] || e.name == "face" || e.name == "tristrips";
-    if (!known) {
-      names.push_back("element " + e.name);
-      continue;
-    }
-    for (const PlyColumn& c : e.columns)
-      if (c.role == PlyColumn::Role::Kept && !c.in_mesh) names.push_back(e.name + " " + c.name);
-  }
-  return names;
-}
-
-namespace {
-
 // The value of `type` at p (native byte order), as a double: exact for every PLY type.
-double load(PlyType type, const unsigned char* p) {
+double ply_load(PlyType type, const unsigned char* p) {
   const auto get = [p](auto v) {
     std::memcpy(&v, p, sizeof v);
     return static_cast<double>(v);
@@ -77,6 +61,22 @@ double load(PlyType type, const unsigned char* p) {
   }
   return 0;
 }
+
+std::vector<std::string> PlySource::carried_only_here() const {
+  std::vector<std::string> names;
+  for (const PlyElementData& e : elements) {
+    const bool known = &e == &elements[vertex_element] || e.name == "face" || e.name == "tristrips";
+    if (!known) {
+      names.push_back("element " + e.name);
+      continue;
+    }
+    for (const PlyColumn& c : e.columns)
+      if (c.role == PlyColumn::Role::Kept && !c.in_mesh) names.push_back(e.name + " " + c.name);
+  }
+  return names;
+}
+
+namespace {
 
 // The type a column is written in: an integer coordinate or normal becomes a double.
 PlyType written_type(const PlyColumn& c) {
@@ -97,9 +97,9 @@ public:
     separate();
     char buf[kNumberChars];
     char* end = buf;
-    if (ply_integer(type)) end = std::to_chars(buf, buf + sizeof buf, static_cast<long long>(load(type, p))).ptr;
-    else if (type == PlyType::Float32) end = std::to_chars(buf, buf + sizeof buf, static_cast<float>(load(type, p))).ptr;
-    else end = std::to_chars(buf, buf + sizeof buf, load(type, p)).ptr;
+    if (ply_integer(type)) end = std::to_chars(buf, buf + sizeof buf, static_cast<long long>(ply_load(type, p))).ptr;
+    else if (type == PlyType::Float32) end = std::to_chars(buf, buf + sizeof buf, static_cast<float>(ply_load(type, p))).ptr;
+    else end = std::to_chars(buf, buf + sizeof buf, ply_load(type, p)).ptr;
     out_.put(std::string_view(buf, static_cast<std::size_t>(end - buf)));
   }
   /// A computed value, rounded to `type` as a cast does.
@@ -131,6 +131,14 @@ private:
   const std::string& line_end_;
   bool first_ = true;
 };
+
+// The binary PLY format in the machine's byte order.
+PlySource::Format native_format() {
+  const std::uint16_t one = 1;
+  unsigned char low;
+  std::memcpy(&low, &one, 1);
+  return low == 1 ? PlySource::Format::BinaryLittle : PlySource::Format::BinaryBig;
+}
 
 const char* format_line(PlySource::Format format) {
   return format == PlySource::Format::Ascii ? "format ascii 1.0"
@@ -166,22 +174,53 @@ void put_header(TextSink& out, const PlySource& source, PlySource::Format format
   }
 }
 
+// Item i of a scalar column whose value the writer computes (a position, a normal, a
+// painted colour) in the type it is written in: its bytes at b (native order), true; or
+// false for a value as read.
+bool computed_bytes(const PlyColumn& c, std::size_t i, const Mesh& mesh, const Eigen::Matrix3Xd* normals,
+                    const std::vector<Eigen::Vector3f>* colors, unsigned char* b) {
+  const auto v = static_cast<Eigen::Index>(i);
+  switch (c.role) {
+    case PlyColumn::Role::Position: ply_store(written_type(c), mesh.positions()(c.component, v), b); return true;
+    case PlyColumn::Role::Normal:  // the file's normals carried through the warps, else the mesh's
+      ply_store(written_type(c), normals ? (*normals)(c.component, v) : mesh.normals()(c.component, v), b);
+      return true;
+    case PlyColumn::Role::Color:
+      if (!colors) return false;
+      ply_store(c.type, ply_integer(c.type) ? color_byte((*colors)[i][c.component]) : (*colors)[i][c.component], b);
+      return true;
+    case PlyColumn::Role::Kept: return false;
+  }
+  return false;
+}
+
+// The items of a binary element whose columns are all scalars, a row at a time: each
+// value in the output's byte order (`swap`: not the machine's), the painted colours
+// after the last column when `add_colors`.
+void put_scalar_rows(TextSink& out, const PlyElementData& element, bool swap, const Mesh& mesh,
+                     const Eigen::Matrix3Xd* normals, const std::vector<Eigen::Vector3f>* colors, bool add_colors) {
+  std::size_t row = add_colors ? 3 : 0;
+  for (const PlyColumn& c : element.columns) row += ply_type_size(written_type(c));
+  std::vector<unsigned char> buffer(row);
+  for (std::size_t i = 0; i < element.count; ++i) {
+    unsigned char* at = buffer.data();
+    for (const PlyColumn& c : element.columns) {
+      const std::size_t size = ply_type_size(written_type(c));
+      unsigned char b[8];
+      const bool computed = computed_bytes(c, i, mesh, normals, colors, b);
+      ply_copy(at, computed ? b : c.values.data() + i * size, size, swap);
+      at += size;
+    }
+    for (int k = 0; add_colors && k < 3; ++k) *at++ = static_cast<unsigned char>(color_byte((*colors)[i][k]));
+    out.put(std::string_view(reinterpret_cast<const char*>(buffer.data()), row));
+  }
+}
+
 // Item i of a column (and of its list's entries from `entry` on, which it advances).
 void put_column(PlyWriter& w, const PlyColumn& c, std::size_t i, std::size_t& entry, const Mesh& mesh,
                 const Eigen::Matrix3Xd* normals, const std::vector<Eigen::Vector3f>* colors) {
-  const auto v = static_cast<Eigen::Index>(i);
-  switch (c.role) {
-    case PlyColumn::Role::Position: return w.computed(written_type(c), mesh.positions()(c.component, v));
-    case PlyColumn::Role::Normal:  // the file's normals carried through the warps, else the mesh's
-      return w.computed(written_type(c), normals ? (*normals)(c.component, v) : mesh.normals()(c.component, v));
-    case PlyColumn::Role::Color:
-      if (colors) {
-        const float x = (*colors)[i][c.component];
-        return ply_integer(c.type) ? w.computed(c.type, color_byte(x)) : w.computed(c.type, x);
-      }
-      break;
-    case PlyColumn::Role::Kept: break;
-  }
+  unsigned char b[8];
+  if (computed_bytes(c, i, mesh, normals, colors, b)) return w.computed(written_type(c), ply_load(written_type(c), b));
   const std::size_t size = ply_type_size(c.type);
   if (!c.list) return w.kept(c.type, c.values.data() + i * size);
   w.computed(c.count_type, c.lengths[i]);
@@ -204,6 +243,11 @@ void write_ply_source(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd
     const PlyElementData& element = source.elements[e];
     const bool vertex = e == source.vertex_element;
     if (element.columns.empty() && !(vertex && add_colors)) continue;  // items of no bytes
+    const bool scalars = std::none_of(element.columns.begin(), element.columns.end(), [](const PlyColumn& c) { return c.list; });
+    if (format != PlySource::Format::Ascii && scalars) {
+      put_scalar_rows(out, element, format != native_format(), mesh, normals, colors, vertex && add_colors);
+      continue;
+    }
     std::vector<std::size_t> entries(element.columns.size(), 0);
     for (std::size_t i = 0; i < element.count; ++i) {
       for (std::size_t k = 0; k < element.columns.size(); ++k)

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -31,6 +32,25 @@ const char* ply_type_name(PlyType type);
 /// Stores x as `type` at out (ply_type_size(type) bytes, native order), converted as a
 /// cast does: exact for a value read from a property of that type.
 void ply_store(PlyType type, double x, unsigned char* out);
+/// The value of `type` at p (native byte order), as a double: exact for every PLY type.
+double ply_load(PlyType type, const unsigned char* p);
+
+/// Copies one value of `size` bytes (1, 2, 4 or 8) from `in` to `out`, its bytes
+/// reversed when `swap` (a binary file of the other byte order). Inline, with a
+/// fixed-size copy per size: the binary readers and writers call it per value.
+inline void ply_copy(unsigned char* out, const unsigned char* in, std::size_t size, bool swap) {
+  const auto copy = [&](auto v, auto reversed) {
+    std::memcpy(&v, in, sizeof v);
+    if (swap) v = reversed(v);
+    std::memcpy(out, &v, sizeof v);
+  };
+  switch (size) {
+    case 1: *out = *in; return;
+    case 2: return copy(std::uint16_t{}, [](std::uint16_t v) { return __builtin_bswap16(v); });
+    case 4: return copy(std::uint32_t{}, [](std::uint32_t v) { return __builtin_bswap32(v); });
+    default: return copy(std::uint64_t{}, [](std::uint64_t v) { return __builtin_bswap64(v); });
+  }
+}
 
 /// One property of an element: its declaration and, unless the writer takes it from the
 /// mesh, every item's value in the declared type (native byte order).
