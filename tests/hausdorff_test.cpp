@@ -9,7 +9,6 @@
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
-#include <CGAL/Polygon_mesh_processing/distance.h>
 
 #include <random>
 
@@ -19,26 +18,14 @@
 #include "mesh/mesh_io.h"
 #include "mesh/point_triangle.h"
 #include "mesh/surface_index.h"
+#include "support/cgal_hausdorff.h"
 #include "test_meshes.h"
 #include "warp/bernstein_lattice.h"
 
 namespace ffd {
 namespace {
 
-namespace PMP = CGAL::Polygon_mesh_processing;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>>>;
-
-// The polygons fanned into triangles of their own: what SurfaceIndex indexes, for CGAL.
-SurfaceMesh triangle_soup(const Mesh& m) {
-  SurfaceMesh soup;
-  const SurfaceIndex index(m);
-  for (std::uint32_t t = 0; t < index.num_triangles(); ++t) {
-    std::array<VertexIndex, 3> v;
-    for (int i = 0; i < 3; ++i) v[i] = soup.add_vertex(to_point(index.point(index.triangle(t)[i])));
-    soup.add_face(v[0], v[1], v[2]);
-  }
-  return soup;
-}
 
 double diagonal(const Mesh& m) {
   const ConstVec3Array p = m.positions();
@@ -174,10 +161,8 @@ TEST(Hausdorff, ReportedMaxIsWithinItsBoundOfABruteForce) {
 TEST(Hausdorff, AgreesWithCgalsBoundedErrorDistanceOnRealMeshes) {
   for (const Mesh& mesh : real_meshes()) {
     const Mesh moved = deformed(mesh, 0.01);
-    const SurfaceMesh sa = triangle_soup(mesh), sb = triangle_soup(moved);
     const double error = 1e-4 * diagonal(mesh);
-    const double cgal = std::max(PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(sa, sb, error),
-                                 PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(sb, sa, error));
+    const double cgal = cgal_hausdorff(mesh, moved, error);
     const MeshDifference d = compare_hausdorff(mesh, moved, {cgal, error, 0});
     EXPECT_NEAR(d.max, cgal, 2 * error) << mesh.source();
     EXPECT_LE(d.max_upper - d.max, error) << mesh.source();
@@ -190,10 +175,8 @@ void expect_decisions(const Mesh& mesh, double by) {
   const Mesh moved = deformed(mesh, by);
   // The distance to within 1e-3 of the lattice point's move, by CGAL's bounded-error
   // algorithm: far inside the 10% either side of the tolerance.
-  const SurfaceMesh sa = triangle_soup(mesh), sb = triangle_soup(moved);
   const double error = 1e-3 * by * diagonal(mesh);
-  const double h = std::max(PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(sa, sb, error),
-                            PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(sb, sa, error));
+  const double h = cgal_hausdorff(mesh, moved, error);
   ASSERT_GT(h, 50 * error) << mesh.source();
   CompareOptions options;
   options.metric = "hausdorff";
