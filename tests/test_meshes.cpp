@@ -202,7 +202,11 @@ nlohmann::json without_measurements(nlohmann::json j) {
     nlohmann::json out = nlohmann::json::object();
     for (auto it = j.begin(); it != j.end(); ++it) {
       const std::string& k = it.key();
-      if (k == "ms" || (k.size() > 3 && k.compare(k.size() - 3, 3, "_ms") == 0) || k == "peak_memory_bytes") continue;
+      // frames_on_one_thread: how many frames the timing chose to run on one thread
+      // (common/thread_choice.h), a measurement too; the frames' bytes do not depend on it.
+      if (k == "ms" || (k.size() > 3 && k.compare(k.size() - 3, 3, "_ms") == 0) || k == "peak_memory_bytes" ||
+          k == "frames_on_one_thread")
+        continue;
       out[k] = without_measurements(it.value());
     }
     return out;

@@ -95,8 +95,8 @@ std::string xpath(const std::string& xml_path, const std::string& expr);
 std::string quoted(const std::string& path);
 /// The names of the entries of a folder.
 std::set<std::string> files_in(const std::string& dir);
-/// Stats without times and memory (keys "ms", "*_ms", "peak_memory_bytes"), for
-/// comparing runs.
+/// Stats without times, memory and what timing chose (keys "ms", "*_ms",
+/// "peak_memory_bytes", "frames_on_one_thread"), for comparing runs.
 nlohmann::json without_measurements(nlohmann::json j);
 
 /// One polygon of a soup as separate vectors, for tests that read a reader's output
