@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds the library, the CLI and the tests with ASan and UBSan (gcc, -O1 -g,
+# Builds the library, the CLI and the tests with ASan and UBSan (gcc, -O1 -g1,
 # -DFFD_SANITIZE=ON) into build-asan/ and runs the whole ctest suite under them. The CLI
 # tests spawn the sanitized ffdtool of the same build, so its runs are checked too. No
 # benchmarks. Any sanitizer report, a leak included, fails the test it happened in.
