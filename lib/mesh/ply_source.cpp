@@ -84,6 +84,14 @@ PlyType written_type(const PlyColumn& c) {
   return computed && ply_integer(c.type) ? PlyType::Float64 : c.type;
 }
 
+// The binary PLY format in the machine's byte order.
+PlySource::Format native_format() {
+  const std::uint16_t one = 1;
+  unsigned char low;
+  std::memcpy(&low, &one, 1);
+  return low == 1 ? PlySource::Format::BinaryLittle : PlySource::Format::BinaryBig;
+}
+
 // Writes the values of one item after another in the output's encoding: ASCII text
 // separated by spaces, one item a line; or binary in the output's byte order.
 class PlyWriter {
@@ -121,8 +129,7 @@ private:
   }
   void bytes(const unsigned char* p, std::size_t n) {
     unsigned char b[8];
-    std::memcpy(b, p, n);
-    if (format_ == PlySource::Format::BinaryBig) std::reverse(b, b + n);
+    ply_copy(b, p, n, format_ != native_format());
     out_.put(std::string_view(reinterpret_cast<const char*>(b), n));
   }
 
@@ -131,14 +138,6 @@ private:
   const std::string& line_end_;
   bool first_ = true;
 };
-
-// The binary PLY format in the machine's byte order.
-PlySource::Format native_format() {
-  const std::uint16_t one = 1;
-  unsigned char low;
-  std::memcpy(&low, &one, 1);
-  return low == 1 ? PlySource::Format::BinaryLittle : PlySource::Format::BinaryBig;
-}
 
 const char* format_line(PlySource::Format format) {
   return format == PlySource::Format::Ascii ? "format ascii 1.0"
