@@ -14,10 +14,6 @@ shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(obj off ply stl gltf gltf_draco gltf_meshopt vtu vtk msh su2 foam script run)
 scripts/setup.sh
-for p in clang libclang-rt-dev libomp-dev; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
-    { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$p"; }
-done
 if [ ! -f build-fuzz/build.ninja ]; then
   CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFFD_FUZZ=ON \
     -DFFD_BUILD_TESTS=OFF -DFFD_BUILD_BENCH=OFF -DFFD_ARCH=

@@ -18,6 +18,9 @@ packages=(
   python3-meshio
   assimp-utils
   gmsh tetgen
+  # clang, its sanitizer runtimes and OpenMP: the sanitizers' build
+  # (scripts/sanitize_test.sh) and the fuzzers (scripts/fuzz.sh)
+  clang libclang-rt-dev libomp-dev
 )
 # Node (Debian's nodejs, with npm) runs Khronos' glTF-Validator; a machine that has node
 # and npm from elsewhere keeps them.

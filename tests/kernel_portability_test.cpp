@@ -26,8 +26,11 @@ void perturb(Lattice& lattice, unsigned seed) {
   const double size = 0.05 * lattice.box().extents().maxCoeff();
   for (std::size_t f = 0; f < lattice.num_points(); ++f) {
     const Index3 ijk = lattice.index(f);
-    if (lattice.movable(ijk))
-      lattice.move_point(ijk, lattice.point(ijk) + size * Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)));
+    if (!lattice.movable(ijk)) continue;
+    // Drawn one statement each: the order of a call's arguments is the compiler's (gcc
+    // and clang, the two builds compared, draw them in opposite orders).
+    const double dx = uniform(rng), dy = uniform(rng), dz = uniform(rng);
+    lattice.move_point(ijk, lattice.point(ijk) + size * Eigen::Vector3d(dx, dy, dz));
   }
   lattice.prepare();
 }

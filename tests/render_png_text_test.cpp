@@ -244,7 +244,7 @@ TEST(RenderPng, ReadsEveryColourTypeAndDepth) {
       const std::uint32_t max = (1u << depth) - 1;
       p.samples = [&](int x, int y) {
         std::vector<std::uint32_t> s;
-        for (int c = 0; c < channels(color_type); ++c) s.push_back(std::uint32_t(x * 37 + y * 101 + c * 53) * 2654435761u % (max + 1));
+        for (int c = 0; c < channels(p.color_type); ++c) s.push_back(std::uint32_t(x * 37 + y * 101 + c * 53) * 2654435761u % (max + 1));
         return s;
       };
       if (color_type == 3) p.palette = palette.substr(0, 3 * (max + 1));
@@ -256,7 +256,7 @@ TEST(RenderPng, ReadsEveryColourTypeAndDepth) {
       for (int y = 0; y < p.height; ++y)
         for (int x = 0; x < p.width; ++x) {
           const std::vector<std::uint32_t> s = p.samples(x, y);
-          auto to8 = [&](std::uint32_t v) { return static_cast<std::uint8_t>(depth == 16 ? v >> 8 : v * 255 / max); };
+          auto to8 = [&](std::uint32_t v) { return static_cast<std::uint8_t>(p.depth == 16 ? v >> 8 : v * 255 / max); };
           Rgb expected;
           if (color_type == 3) {
             expected = {std::uint8_t(palette[3 * s[0]]), std::uint8_t(palette[3 * s[0] + 1]), std::uint8_t(palette[3 * s[0] + 2])};
