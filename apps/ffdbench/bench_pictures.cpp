@@ -41,11 +41,11 @@ namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
 /// A file format of the gltf rows: its row name and extension. Binary PLY is the baseline.
-struct Format {
+struct PictureFormat {
   const char* name;
   const char* ext;
 };
-constexpr Format kGlb{"glb", ".glb"}, kGltf{"gltf+bin", ".gltf"}, kPly{"ply_binary", ".ply"};
+constexpr PictureFormat kGlb{"glb", ".glb"}, kGltf{"gltf+bin", ".gltf"}, kPly{"ply_binary", ".ply"};
 
 /// Grid sides of the gltf rows: 317 (100,489 vertices) and 1001 (1,002,001), the io
 /// suite's; quick: 142 (20,164).
@@ -71,7 +71,7 @@ double write_as(const std::string& path, const Mesh& mesh, WriteOptions::Encodin
 /// One gltf row: `mesh` written as `f` (write_new_ms: from the generated mesh, which has
 /// no glTF source), then read_mesh of that file and write_mesh of the mesh read back into
 /// another file of the same format (write_ms: the round trip), medians over `repeats`.
-json format_row(const Format& f, const Mesh& mesh, const TempFolder& dir, int repeats) {
+json format_row(const PictureFormat& f, const Mesh& mesh, const TempFolder& dir, int repeats) {
   const std::string tag = "grid-" + std::to_string(mesh.num_vertices()) + "-" + (f.ext + 1);
   const std::string in = dir.file(tag + f.ext), out = dir.file(tag + "-out" + f.ext);
   double bytes = 0;
@@ -115,7 +115,7 @@ json gltf_rows(const Context& ctx, const TempFolder& dir) {
     std::fprintf(stderr, "ffdbench: pictures: gltf, %zu vertices\n", mesh.num_vertices());
     json ply = format_row(kPly, mesh, dir, ctx.repeats);
     ply["case"] = "baseline";
-    for (const Format& f : {kGlb, kGltf}) {
+    for (const PictureFormat& f : {kGlb, kGltf}) {
       json r = format_row(f, mesh, dir, ctx.repeats);
       add_ply_ratios(r, ply);
       rows.push_back(r);

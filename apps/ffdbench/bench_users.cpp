@@ -46,14 +46,14 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
-// The sphere job: 4^3 cells, the centre point moved by kDelta (the io suite's delta).
+// The sphere job: 4^3 cells, the centre point moved by kUsersDelta (the io suite's delta).
 // Blender numbers a lattice's points from 0, ffdtool a cubic one from -1 (the phantom
 // layer), so ffdtool's centre point 2 is Blender's 3.
-constexpr int kCells = 4;
+constexpr int kUsersCells = 4;
 constexpr int kCentre = 2;
 constexpr int kBlenderCentre = kCentre + 1;
-constexpr double kDelta[3] = {0.1, 0.2, 0.3};
-constexpr int kBlenderRepeats = 3;
+constexpr double kUsersDelta[3] = {0.1, 0.2, 0.3};
+constexpr int kUsersBlenderRepeats = 3;
 
 /// `ffdtool run`s of one script: their stats, and the medians of wall time and peak RSS.
 struct ToolRuns {
@@ -129,10 +129,10 @@ void write_sphere_obj(const std::string& path, const PolygonSoup& soup) {
 
 /// The sphere job's script: the lattice on the padded AABB, its centre point moved.
 json sphere_steps() {
-  return json::array({{{"op", "lattice"}, {"name", "l"}, {"cells", {kCells, kCells, kCells}},
+  return json::array({{{"op", "lattice"}, {"name", "l"}, {"cells", {kUsersCells, kUsersCells, kUsersCells}},
                        {"box", {{"fit", "aabb"}, {"padding", 0.05}}}},
                       {{"op", "move"}, {"lattice", "l"},
-                       {"points", {{{"index", {kCentre, kCentre, kCentre}}, {"by", {kDelta[0], kDelta[1], kDelta[2]}}}}}}});
+                       {"points", {{{"index", {kCentre, kCentre, kCentre}}, {"by", {kUsersDelta[0], kUsersDelta[1], kUsersDelta[2]}}}}}}});
 }
 
 /// The peer's lattice arguments: cells or point index three times, then the delta.
@@ -140,7 +140,7 @@ std::vector<std::string> blender_lattice_args(int cells_or_index, int point, boo
   std::vector<std::string> a;
   for (int i = 0; i < (per_axis_cells ? 3 : 1); ++i) a.push_back(std::to_string(cells_or_index));
   for (int i = 0; i < 3; ++i) a.push_back(std::to_string(point));
-  for (double d : kDelta) a.push_back(json(d).dump());
+  for (double d : kUsersDelta) a.push_back(json(d).dump());
   return a;
 }
 
@@ -148,9 +148,9 @@ std::vector<std::string> blender_lattice_args(int cells_or_index, int point, boo
 json blender_job(const Context& ctx, const std::string& blender, const TempFolder& dir, const std::string& obj) {
   if (blender.empty()) return {{"blender", kNoBlender}};
   std::vector<std::string> args = {"job", obj, dir.file("blender-out.obj")};
-  const std::vector<std::string> lattice = blender_lattice_args(kCells, kBlenderCentre, true);
+  const std::vector<std::string> lattice = blender_lattice_args(kUsersCells, kBlenderCentre, true);
   args.insert(args.end(), lattice.begin(), lattice.end());
-  return blender_medians(blender, args, dir, ctx.quick ? 1 : kBlenderRepeats,
+  return blender_medians(blender, args, dir, ctx.quick ? 1 : kUsersBlenderRepeats,
                          {"import_ms", "setup_ms", "modifier_ms", "export_ms", "total_ms"});
 }
 
@@ -192,7 +192,7 @@ json sphere_move_row(const Context& ctx, const std::string& blender, const TempF
     return row;
   }
   std::vector<std::string> args = {"kernel", obj, std::to_string(std::max(1, ctx.repeats))};
-  const std::vector<std::string> lattice = blender_lattice_args(kCells, kBlenderCentre, false);
+  const std::vector<std::string> lattice = blender_lattice_args(kUsersCells, kBlenderCentre, false);
   args.insert(args.end(), lattice.begin(), lattice.end());
   const json peer = blender_medians(blender, args, dir, 1, {"baseline_ms", "lattice_ms", "modifier_ms"});
   row["blender"] = peer;
