@@ -83,10 +83,21 @@ TEST(PointTriangle, EqualsCgalsDistanceAndASegmentsForDegenerateTriangles) {
   }
 }
 
+// The index's triangles as a CGAL soup (corners not shared), for CGAL's own AABB tree.
+SurfaceMesh triangle_soup(const SurfaceIndex& index) {
+  SurfaceMesh soup;
+  for (std::uint32_t t = 0; t < index.num_triangles(); ++t) {
+    std::array<VertexIndex, 3> v;
+    for (int i = 0; i < 3; ++i) v[i] = soup.add_vertex(to_point(index.point(index.triangle(t)[i])));
+    soup.add_face(v[0], v[1], v[2]);
+  }
+  return soup;
+}
+
 TEST(SurfaceIndex, ClosestDistanceEqualsCgalsAabbTreeWhateverTheHint) {
   for (const Mesh& mesh : real_meshes()) {
     const SurfaceIndex index(mesh);
-    const SurfaceMesh soup = triangle_soup(mesh);
+    const SurfaceMesh soup = triangle_soup(index);
     Tree tree(faces(soup).first, faces(soup).second, soup);
     const ConstVec3Array p = mesh.positions();
     const Eigen::Vector3d lo = p.rowwise().minCoeff(), hi = p.rowwise().maxCoeff();
@@ -103,28 +114,6 @@ TEST(SurfaceIndex, ClosestDistanceEqualsCgalsAabbTreeWhateverTheHint) {
       ASSERT_EQ(index.squared_distance(q, c.triangle), c.squared);
     }
   }
-}
-
-// The largest distance from points of `from` (its vertices and `samples`² points on each
-// triangle) to `to`'s triangles, every triangle tried (but those whose box lies farther
-// than the best so far): a lower bound of the one-sided Hausdorff distance that tends to it.
-double brute_force_directed(const Mesh& from, const Mesh& to, int samples) {
-  const SurfaceIndex f(from), t(to);
-  std::vector<Eigen::AlignedBox3d> boxes(t.num_triangles());
-  for (std::uint32_t b = 0; b < t.num_triangles(); ++b)
-    for (const std::uint32_t v : t.triangle(b)) boxes[b].extend(t.point(v));
-  double worst = 0;
-  for (std::uint32_t a = 0; a < f.num_triangles(); ++a)
-    for (int i = 0; i <= samples; ++i)
-      for (int j = 0; i + j <= samples; ++j) {
-        const Eigen::Vector3d q = (i * f.point(f.triangle(a)[0]) + j * f.point(f.triangle(a)[1]) +
-                                   (samples - i - j) * f.point(f.triangle(a)[2])) / samples;
-        double best = std::numeric_limits<double>::infinity();
-        for (std::uint32_t b = 0; b < t.num_triangles(); ++b)
-          if (boxes[b].squaredExteriorDistance(q) < best) best = std::min(best, t.squared_distance(q, b));
-        worst = std::max(worst, std::sqrt(best));
-      }
-  return worst;
 }
 
 // Each triangle of `mesh` split in two at its first edge's midpoint (a soup: corners not
@@ -148,7 +137,7 @@ TEST(Hausdorff, ReportedMaxIsWithinItsBoundOfABruteForce) {
   // farthest points lie inside faces, not at vertices.
   const Mesh a = test::bunny();
   const Mesh b = split_and_deformed(a);
-  const double reference = std::max(brute_force_directed(a, b, 5), brute_force_directed(b, a, 4));
+  const double reference = std::max(brute_force_directed_hausdorff(a, b, 5), brute_force_directed_hausdorff(b, a, 4));
   const double error = 0.02 * reference;
   const MeshDifference d = compare_hausdorff(a, b, {reference, error, 0});
   EXPECT_LE(d.max, d.max_upper);
