@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <map>
 #include <set>
 
@@ -53,7 +54,10 @@ void expect_valid(const Mesh& mesh) {
   EXPECT_TRUE(sm.is_valid(false));
   EXPECT_TRUE(mesh.is_triangle_mesh());
   EXPECT_FALSE(sm.has_garbage());
-  for (VertexIndex v : sm.vertices()) EXPECT_FALSE(CGAL::Polygon_mesh_processing::is_non_manifold_vertex(v, sm));
+  // One pass over the mesh (is_non_manifold_vertex is a pass per vertex, says CGAL).
+  std::vector<HalfedgeIndex> non_manifold;  // a halfedge into each non-manifold vertex
+  CGAL::Polygon_mesh_processing::non_manifold_vertices(sm, std::back_inserter(non_manifold));
+  EXPECT_TRUE(non_manifold.empty()) << non_manifold.size() << " non-manifold vertices";
   const MeshInfo info = mesh_info(mesh);
   EXPECT_EQ(info.degenerate_faces, 0u);
   EXPECT_TRUE(mesh.positions().allFinite());
