@@ -7,12 +7,12 @@
 # whose kernels KernelPortability compares with the default build's; the sanitizers
 # check the same code either way.
 # clang, not gcc: the same instrumented -O1 build compiles in about 60% of gcc's time
-# (cold, 2 cores: 832 s -> 528 s), and the released objects stay gcc's (build/). Measured
-# cold on 2 cores with UBSan's object-size check left to ASan, the tests' own code
-# without line tables, and the Hausdorff oracles in their own uninstrumented library:
-# build 499 s, suite 147 s (it was 260-312 s). clang's
-# runtimes and OpenMP come from scripts/setup.sh (libclang-rt-dev, libomp-dev). A
-# build-asan/ configured with another compiler is configured afresh.
+# (cold, 2 cores: 832 s -> 528 s), and the released objects stay gcc's (build/). With
+# UBSan's object-size check left to ASan, the tests' own code without line tables and
+# the Hausdorff oracles in their own uninstrumented library, cold on 2 cores: build
+# 428 s, suite 131-152 s (it was 260-312 s). clang's runtimes and OpenMP come from
+# scripts/setup.sh (libclang-rt-dev, libomp-dev). A build-asan/ configured with another
+# compiler is configured afresh.
 # Run scripts/test.sh first: its default build's kernel outputs are the reference here.
 # Usage: scripts/sanitize_test.sh [CTEST ARGS...]
 set -euo pipefail
