@@ -2,6 +2,7 @@
 // Ono et al.'s multiresolution FFD that could fail.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -87,8 +88,24 @@ TEST(VolumeSubdivision, TheSparseAndOnePassSubdivisionsAreSubdivideFieldsBitForB
   Eigen::SparseMatrix<double, Eigen::RowMajor> S;
   const Eigen::MatrixXd both = subdivide_field_and_matrix(g, fine, rest, cc, S);
   EXPECT_TRUE((both.array() == subdivide_field(g, fine, rest, cc).array()).all());
-  const Eigen::SparseMatrix<double, Eigen::RowMajor> reference = subdivision_matrix(g, fine.points, cc);
-  EXPECT_EQ(Eigen::MatrixXd(S), Eigen::MatrixXd(reference));
+  // The matrices merge each stencil into its row; Eigen's setFromTriplets, which sums
+  // duplicates in the order given, is the reference: same entries, same bits.
+  std::vector<Eigen::Triplet<double>> triplets;
+  Stencil stencil;
+  for (std::size_t f = 0; f < fine.num_points(); ++f) {
+    subdivision_stencil(g, fine.points[f], cc, stencil);
+    for (const auto& [p, w] : stencil) triplets.emplace_back(static_cast<int>(f), p, w);
+  }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> reference(S.rows(), S.cols());
+  reference.setFromTriplets(triplets.begin(), triplets.end());
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> listed = subdivision_matrix(g, fine.points, cc);
+  using Matrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  for (const Matrix* M : std::array<const Matrix*, 2>{&S, &listed}) {
+    ASSERT_EQ(M->nonZeros(), reference.nonZeros());
+    EXPECT_TRUE(std::equal(M->outerIndexPtr(), M->outerIndexPtr() + M->rows() + 1, reference.outerIndexPtr()));
+    EXPECT_TRUE(std::equal(M->innerIndexPtr(), M->innerIndexPtr() + M->nonZeros(), reference.innerIndexPtr()));
+    EXPECT_TRUE(std::equal(M->valuePtr(), M->valuePtr() + M->nonZeros(), reference.valuePtr()));
+  }
 }
 
 TEST(VolumeSubdivision, ARegularBoxLatticeStaysRegular) {
@@ -400,6 +417,76 @@ TEST(OctreeLattice, PointWeightsPredictTheDeformation) {
   for (const auto& [p, wp] : w) predicted += wp * d * (p % 3);
   lattice.move_level_points(2, ids, targets);
   EXPECT_LT((lattice.apply(x, nullptr) - predicted).norm(), 1e-12);
+}
+
+TEST(OctreeLattice, ALargeLevelsPointWeightsAreASmallLevelsBitForBit) {
+  // A large level reads its C^k through StepGrid (slots, stencils over the implied
+  // topology); a small one through built complexes. Same weights, same order, same bits.
+  BunnyLattice b;
+  OctreeOptions large = options(4, 2), small = options(4, 2);
+  large.whole_level_cells = 0;
+  small.whole_level_cells = 1u << 30;
+  const OctreeLattice a(b.box, b.x, large), c(b.box, b.x, small);
+  std::vector<std::pair<std::int32_t, double>> wa, wc;
+  std::size_t weighted = 0;
+  for (Eigen::Index v = 0; v < b.x.cols(); v += 97) {
+    a.point_weights(4, b.x.col(v), wa);
+    c.point_weights(4, b.x.col(v), wc);
+    ASSERT_EQ(wa, wc) << "vertex " << v;
+    weighted += !wa.empty();
+  }
+  EXPECT_GT(weighted, static_cast<std::size_t>(b.x.cols() / 97) * 9 / 10);
+}
+
+TEST(StepGrid, ImpliesTheRefinedComplexWithOneSlotPerPoint) {
+  // C^k of a cut, concave level (the bunny's level 3) as StepGrid reads it, against
+  // refine() applied k times: the same cells, every point one slot and back, distinct
+  // slots, the same corners, and the same stencils (as nodes and weights).
+  BunnyLattice b;
+  const OctreeLattice lattice(b.box, b.x, options(3, 2));
+  const GridComplex& level = lattice.complex(3);
+  GridComplex built = level;
+  for (int k = 1; k <= 2; ++k) {
+    const GridComplex coarse = built;
+    built = refine(built);
+    const StepGrid implied{&level, nullptr, k}, coarse_implied{&level, nullptr, k - 1};
+    ASSERT_EQ(implied.resolution(), built.resolution);
+    std::vector<std::int32_t> slots;
+    for (const GridIndex& n : built.points) {
+      const std::int32_t p = implied.point(n);
+      ASSERT_GE(p, 0);
+      ASSERT_LT(static_cast<std::size_t>(p), implied.num_points());
+      EXPECT_EQ(implied.node(p), n);
+      slots.push_back(p);
+    }
+    std::sort(slots.begin(), slots.end());
+    EXPECT_EQ(std::adjacent_find(slots.begin(), slots.end()), slots.end()) << "two points share a slot";
+    const int res = built.resolution;
+    std::size_t cells = 0;
+    for (int z = -1; z <= res; ++z)
+      for (int y = -1; y <= res; ++y)
+        for (int x = -1; x <= res; ++x) {
+          const std::int32_t cell = implied.cell(x, y, z);
+          ASSERT_EQ(cell >= 0, built.has_cell(x, y, z)) << x << " " << y << " " << z;
+          if (cell < 0) continue;
+          ++cells;
+          for (int c = 0; c < 8; ++c)
+            EXPECT_EQ(implied.node(implied.corner(cell, c)), built.points[static_cast<std::size_t>(
+                                                                  built.corner(static_cast<std::size_t>(built.cell(x, y, z)), c))]);
+        }
+    EXPECT_EQ(cells, built.num_cells());
+    Stencil from_built, from_implied;
+    const StepGrid coarse_grid = k == 1 ? StepGrid{&level, &level, 0} : coarse_implied;
+    for (std::size_t p = 0; p < built.num_points(); p += 7) {
+      subdivision_stencil(coarse, built.points[p], SubdivisionRule::CatmullClark, from_built);
+      subdivision_stencil(coarse_grid, built.points[p], SubdivisionRule::CatmullClark, from_implied);
+      ASSERT_EQ(from_built.size(), from_implied.size());
+      for (std::size_t i = 0; i < from_built.size(); ++i) {
+        EXPECT_EQ(coarse.points[static_cast<std::size_t>(from_built[i].first)], coarse_grid.node(from_implied[i].first));
+        EXPECT_EQ(from_built[i].second, from_implied[i].second);
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -253,13 +253,20 @@ void add_ratios(json& r, const MeshCase& mesh, double bspline_ms) {
 
 /// The lattice memory row of `lattice` after the moves.
 json lattice_memory_row(const OctreeLattice& lattice, const std::string& mesh, std::size_t vertices, double build_ms) {
-  std::size_t level_cells = 0, sub_cells = 0, dense = 0;  // dense: the index arrays over bounding ranges
+  // dense: the index arrays over bounding ranges the lattice holds: every level's grid, and
+  // the subdivided complexes of the small levels (a large level's are implied, StepGrid).
+  std::size_t level_cells = 0, sub_cells = 0, dense = 0;
+  const auto index_bytes = [](const GridComplex& g) {
+    return (g.cell_index.capacity() + g.point_index.capacity()) * sizeof(std::int32_t);
+  };
   for (int l = 0; l < lattice.num_grid_levels(); ++l) {
-    level_cells += lattice.complex(l).num_cells();
-    for (int k = 0; k <= lattice.options().cc_steps; ++k) {
-      const GridComplex& g = lattice.subdivided(l, k);
-      if (k > 0) sub_cells += g.num_cells();
-      dense += (g.cell_index.capacity() + g.point_index.capacity()) * sizeof(std::int32_t);
+    const GridComplex& g = lattice.complex(l);
+    level_cells += g.num_cells();
+    dense += index_bytes(g);
+    const bool small = g.num_cells() <= lattice.options().whole_level_cells;
+    for (int k = 1; k <= lattice.options().cc_steps; ++k) {
+      sub_cells += g.num_cells() << (3 * k);  // every cell of C^k is a child of a level cell
+      if (small) dense += index_bytes(lattice.subdivided(l, k));
     }
   }
   const double bytes = static_cast<double>(lattice.bytes());

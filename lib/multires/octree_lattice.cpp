@@ -20,6 +20,11 @@ OctreeLattice::Marks::Marks(int res)
       active(changed.size(), 0),
       epochs(changed.size(), 0) {}
 
+void OctreeLattice::Marks::clear_changes() {
+  if (any_changed) std::fill(changed.begin(), changed.end(), 0);
+  any_changed = false;
+}
+
 OctreeLattice::OctreeLattice(const Parallelepiped& box, const Eigen::Matrix3Xd& region, const OctreeOptions& options)
     : box_(box), options_(options) {
   build_levels(region);
@@ -63,7 +68,7 @@ void OctreeLattice::build_levels(const Eigen::Matrix3Xd& region) {
     if (options_.shrink >= 0) shrink_level(l, t);
     level.delta = Eigen::Matrix3Xd::Zero(3, level.rest.cols());
     level.fine.push_back(level.rest);
-    level.disp.push_back(level.delta);
+    level.disp.emplace_back(level.rest.cols());  // zero: nothing moved yet
     level.marks = Marks(g.resolution);
   }
 }
@@ -183,24 +188,26 @@ OctreeMove OctreeLattice::move_level_points(int l, const std::vector<std::int32_
 
 void OctreeLattice::ensure_subdivided(int l) const {
   Level& level = levels_[l];
-  if (static_cast<int>(level.sub.size()) > options_.cc_steps) return;
-  // A small level is subdivided whole, positions and step matrices; a large one gets its
-  // topology now and its rest positions cell by cell (ensure_rest).
+  if (level.stepped) return;
+  level.stepped = true;
+  // A small level is subdivided whole, topology, positions and step matrices; a large one
+  // builds no topology (StepGrid implies it) and gets its rest positions cell by cell
+  // (ensure_rest), into fields over its slots that no step touches until it needs them.
   const bool whole = level.sub[0].num_cells() <= options_.whole_level_cells;
-  while (static_cast<int>(level.sub.size()) <= options_.cc_steps) {
-    const std::size_t k = level.sub.size();
-    level.sub.push_back(refine(level.sub[k - 1]));
-    const auto points = static_cast<Eigen::Index>(level.sub[k].num_points());
+  for (int k = 1; k <= options_.cc_steps; ++k) {
     if (whole) {
+      level.sub.push_back(refine(level.sub[static_cast<std::size_t>(k - 1)]));
       level.steps.emplace_back();
-      level.fine.push_back(subdivide_field_and_matrix(level.sub[k - 1], level.sub[k], level.fine[k - 1],
-                                                      SubdivisionRule::CatmullClark, level.steps.back()));
+      level.fine.push_back(subdivide_field_and_matrix(level.sub[static_cast<std::size_t>(k - 1)], level.sub.back(),
+                                                      level.fine.back(), SubdivisionRule::CatmullClark,
+                                                      level.steps.back()));
     } else {
-      level.fine.emplace_back(3, points);  // written by ensure_rest, point by point
-      level.written.emplace_back(static_cast<std::size_t>(points), 0);
+      const std::size_t slots = level.step_grid(k).num_points();
+      level.fine.emplace_back(3, static_cast<Eigen::Index>(slots));  // written by ensure_rest, slot by slot
+      level.written.emplace_back(slots);
     }
     // A level is subdivided before its first move: there is nothing to subdivide yet.
-    level.disp.push_back(Eigen::Matrix3Xd::Zero(3, points));
+    level.disp.emplace_back(level.fine.back().cols());
   }
   if (!whole) {
     const std::size_t res = static_cast<std::size_t>(level.sub[0].resolution);
@@ -215,7 +222,7 @@ bool OctreeLattice::rest_ready(int l, const GridIndex& cell) const {
 
 std::size_t OctreeLattice::rest_cells_subdivided(int l) const {
   const Level& level = levels_[l];
-  if (static_cast<int>(level.sub.size()) <= options_.cc_steps) return 0;
+  if (!level.stepped) return 0;
   std::size_t n = 0;
   for (const GridIndex& c : level.sub[0].cells) n += rest_ready(l, c);
   return n;
@@ -250,13 +257,14 @@ void OctreeLattice::ensure_rest(int l, const std::vector<GridIndex>& cells) cons
     GridComplex finer = refine(local);
     field = subdivide_field(local, finer, field, SubdivisionRule::CatmullClark);
     const int span = 1 << k;  // nodes of C^k per cell of the level, per axis
-    std::vector<std::uint8_t>& written = level.written[static_cast<std::size_t>(k - 1)];
+    ZeroedArray<std::uint8_t>& written = level.written[static_cast<std::size_t>(k - 1)];
+    const StepGrid fine = level.step_grid(k);
     for (const GridIndex& c : pending)
       for (int z = 0; z <= span; ++z)
         for (int y = 0; y <= span; ++y)
           for (int x = 0; x <= span; ++x) {
             const GridIndex node{c[0] * span + x, c[1] * span + y, c[2] * span + z};
-            const std::int32_t p = level.sub[k].point(node);
+            const std::int32_t p = fine.point(node);
             if (written[static_cast<std::size_t>(p)]) continue;
             level.fine[k].col(p) = field.col(finer.point(node));
             written[static_cast<std::size_t>(p)] = 1;
@@ -286,10 +294,10 @@ void OctreeLattice::update_displacements(int l, const std::vector<std::int32_t>&
                                          OctreeMove& report) {
   Level& level = levels_[l];
   const GridComplex& g = level.sub[0];
-  level.disp[0] = level.delta;
+  level.disp[0].map() = level.delta;
   if (!level.steps.empty()) {  // a small level: its steps are matrices
     for (int k = 1; k <= options_.cc_steps; ++k)
-      level.disp[k] = (level.steps[k - 1] * level.disp[k - 1].transpose()).transpose();
+      level.disp[k].map() = (level.steps[k - 1] * level.disp[k - 1].map().transpose()).transpose();
     report.cells_subdivided = g.num_cells();
     return;
   }
@@ -309,9 +317,11 @@ void OctreeLattice::update_displacements(int l, const std::vector<std::int32_t>&
     std::vector<std::uint8_t> nonzero(local.num_points());
     for (std::size_t q = 0; q < local.num_points(); ++q) nonzero[q] = !field.col(static_cast<Eigen::Index>(q)).isZero(0.0);
     field = subdivide_sparse_field(local, finer, field, nonzero, SubdivisionRule::CatmullClark);
+    const StepGrid grid = level.step_grid(k);
+    Eigen::Map<Eigen::Matrix3Xd> disp = level.disp[k].map();
     for (std::size_t q = 0; q < finer.num_points(); ++q) {
       if (field.col(static_cast<Eigen::Index>(q)).isZero(0.0)) continue;
-      level.disp[k].col(level.sub[k].point(finer.points[q])) += field.col(static_cast<Eigen::Index>(q));
+      disp.col(grid.point(finer.points[q])) += field.col(static_cast<Eigen::Index>(q));
     }
     local = std::move(finer);
   }
@@ -403,8 +413,8 @@ std::vector<std::array<std::int32_t, 2>> OctreeLattice::edges(int l) const {
 }
 
 void OctreeLattice::clear_changes() {
-  for (Local& entry : local_) std::fill(entry.marks.changed.begin(), entry.marks.changed.end(), 0);
-  for (Level& level : levels_) std::fill(level.marks.changed.begin(), level.marks.changed.end(), 0);
+  for (Local& entry : local_) entry.marks.clear_changes();
+  for (Level& level : levels_) level.marks.clear_changes();
   any_changed_ = false;
 }
 
@@ -417,7 +427,7 @@ std::size_t OctreeLattice::bytes() const {
   for (const Level& level : levels_) {
     for (const GridComplex& g : level.sub) total += g.bytes();
     for (const Eigen::Matrix3Xd& m : level.fine) total += static_cast<std::size_t>(m.size()) * sizeof(double);
-    for (const Eigen::Matrix3Xd& m : level.disp) total += static_cast<std::size_t>(m.size()) * sizeof(double);
+    for (const Field& m : level.disp) total += m.values.size() * sizeof(double);
     for (const auto& S : level.steps) total += static_cast<std::size_t>(S.nonZeros()) * (sizeof(double) + sizeof(int));
     for (const auto& flags : level.written) total += flags.size();
     if (level.ready) total += static_cast<std::size_t>(level.marks.changed.size());  // one flag per grid cell
@@ -429,13 +439,28 @@ std::size_t OctreeLattice::bytes() const {
 
 const GridComplex& OctreeLattice::subdivided(int l, int k) const {
   ensure_subdivided(l);
-  return levels_[l].sub[k];
+  const Level& level = levels_[l];
+  if (static_cast<std::size_t>(k) < level.sub.size()) return level.sub[static_cast<std::size_t>(k)];
+  Inspected& seen = inspected_[{l, k}];  // a large level's C^k, built for the caller only
+  if (seen.complex.cells.empty()) {
+    seen.complex = level.sub[0];
+    for (int step = 1; step <= k; ++step) seen.complex = refine(seen.complex);
+  }
+  return seen.complex;
 }
 
 const Eigen::Matrix3Xd& OctreeLattice::subdivided_rest(int l, int k) const {
   ensure_subdivided(l);
-  if (levels_[l].ready) ensure_rest(l, levels_[l].sub[0].cells);
-  return levels_[l].fine[k];
+  const Level& level = levels_[l];
+  if (level.ready) ensure_rest(l, level.sub[0].cells);
+  if (static_cast<std::size_t>(k) < level.sub.size()) return level.fine[static_cast<std::size_t>(k)];
+  const GridComplex& g = subdivided(l, k);
+  Inspected& seen = inspected_[{l, k}];
+  const StepGrid grid = level.step_grid(k);
+  seen.rest.resize(3, static_cast<Eigen::Index>(g.num_points()));
+  for (std::size_t p = 0; p < g.num_points(); ++p)
+    seen.rest.col(static_cast<Eigen::Index>(p)) = level.fine[static_cast<std::size_t>(k)].col(grid.point(g.points[p]));
+  return seen.rest;
 }
 
 }  // namespace ffd

@@ -27,9 +27,11 @@
 // whole level when it is small, and marks the cells of N_{S,3}:
 // changed_points() reports only the vertices there; every other vertex is untouched.
 // Points outside every cell of every moved level are never changed, bit for bit. The rest
-// lattice's subdivisions C^k(R_l) are local too: a large level's first move builds their
-// topology but subdivides the rest positions only in the cells it marks (and, on demand,
-// where locating a vertex walks), so a first move costs about what a later one does.
+// lattice's subdivisions C^k(R_l) are local too: a large level builds no C^k topology
+// (StepGrid implies it from the level's grid) and its first move subdivides the rest
+// positions only in the cells it marks (and, on demand, where locating a vertex walks),
+// into fields that stay untouched memory elsewhere, so a first move costs about what a
+// later one does.
 //
 // Local subdivision (section 2.2, Figure 3): subdivide() adds a level made of chosen cells
 // of a level split by the octree rules (a SubdividedLevel, of general topology), shown
@@ -39,12 +41,15 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
+#include "common/zeroed_array.h"
 #include "multires/grid_complex.h"
+#include "multires/step_grid.h"
 #include "multires/subdivided_level.h"
 #include "warp/deformer.h"
 #include "warp/parallelepiped.h"
@@ -169,7 +174,9 @@ public:
   /// The same for x at box coordinates t (box().to_local(x)).
   bool locate(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Location& where) const;
   /// The k-th Catmull-Clark subdivision of the level's rest lattice (k = 0: the level),
-  /// built on first use. Positions: `subdivided_rest`.
+  /// built on first use, and its points' positions (the whole level subdivided). A large
+  /// level never builds its C^k topology itself (StepGrid): for it these are built on the
+  /// call, for inspection (tests, benchmarks), and kept beside the lattice's own data.
   const GridComplex& subdivided(int level, int k) const;
   const Eigen::Matrix3Xd& subdivided_rest(int level, int k) const;
 
@@ -181,26 +188,44 @@ private:
     int resolution = 1;
     std::vector<std::uint8_t> changed, active;
     std::vector<std::uint32_t> epochs;
+    bool any_changed = false;  // some cell is in `changed`
     explicit Marks(int res = 1);
-    void mark(std::size_t cell) { changed[cell] = active[cell] = 1, ++epochs[cell]; }
+    void mark(std::size_t cell) { changed[cell] = active[cell] = 1, ++epochs[cell], any_changed = true; }
+    void clear_changes();
     std::size_t bytes() const { return changed.size() + active.size() + sizeof(std::uint32_t) * epochs.size(); }
   };
+  /// A 3 x n field over the points (or slots) of C^k, zero until written (ZeroedArray).
+  struct Field {
+    ZeroedArray<double> values;
+    Eigen::Index cols = 0;
+    explicit Field(Eigen::Index n = 0) : values(3 * static_cast<std::size_t>(n)), cols(n) {}
+    Eigen::Map<Eigen::Matrix3Xd> map() { return {values.data(), 3, cols}; }
+    Eigen::Map<const Eigen::Matrix3Xd> map() const { return {values.data(), 3, cols}; }
+  };
   struct Level {
-    std::vector<GridComplex> sub;          // sub[k] = C^k topology; sub[0] the level itself
+    // sub[k] = C^k topology; sub[0] the level itself. Only small levels build k >= 1: a
+    // large level's C^k is implied by its grid (StepGrid), and fine[k], disp[k] are over
+    // its slots.
+    std::vector<GridComplex> sub;
     std::vector<Eigen::Matrix3Xd> fine;    // fine[k] = C^k(R_l) positions, where `ready` says
     // Large levels subdivide their rest lattice where it is needed (section 3.2: a move
     // subdivides N_{S,3}, not the level): per cell of the level's grid (dense), whether
     // fine[k] holds C^k(R_l) at every point of the cell's subdivisions, for every k; and per
-    // step k >= 1 and point of sub[k], whether fine[k] holds it. Null `ready`: the whole
-    // level is subdivided (small levels, and subdivided_rest()).
+    // step k >= 1 and slot of C^k, whether fine[k] holds it. Null `ready`: the whole
+    // level is subdivided (small levels).
     std::unique_ptr<std::atomic<std::uint8_t>[]> ready;
-    std::vector<std::vector<std::uint8_t>> written;
-    std::vector<Eigen::Matrix3Xd> disp;    // disp[k] = C^k(delta_l)
+    std::vector<ZeroedArray<std::uint8_t>> written;
+    std::vector<Field> disp;               // disp[k] = C^k(delta_l)
     std::vector<Eigen::SparseMatrix<double, Eigen::RowMajor>> steps;  // small levels: C as matrices
     Eigen::Matrix3Xd rest, delta;
     Marks marks;
     std::size_t cut = 0;
     bool moved = false;
+    bool stepped = false;  // the Catmull-Clark steps are set up (ensure_subdivided)
+    /// C^k as the lattice reads it (a built complex for k = 0 and for small levels).
+    StepGrid step_grid(int k) const {
+      return {&sub[0], static_cast<std::size_t>(k) < sub.size() ? &sub[static_cast<std::size_t>(k)] : nullptr, k};
+    }
   };
   struct Local {  // a local level and its marks on its node grid's cells
     std::unique_ptr<SubdividedLevel> level;
@@ -241,6 +266,11 @@ private:
   Parallelepiped box_;
   OctreeOptions options_;
   mutable std::vector<Level> levels_;
+  struct Inspected {  // subdivided() and subdivided_rest() of a large level
+    GridComplex complex;
+    Eigen::Matrix3Xd rest;
+  };
+  mutable std::map<std::pair<int, int>, Inspected> inspected_;
   mutable std::mutex rest_mutex_;  // ensure_rest: one subdivision at a time
   mutable std::atomic<std::size_t> located_{0};
   std::vector<Local> local_;

@@ -16,9 +16,19 @@ namespace {
 constexpr double kInsideTolerance = 1e-9;
 constexpr int kMaxWalk = 8;
 
-CellCorners corners_of(const GridComplex& g, const Eigen::Matrix3Xd& positions, std::int32_t cell) {
+// A grid node (coordinates in [0, 2^20)) as a number that orders nodes by (k, j, i), the
+// order of a GridComplex's points.
+std::int64_t node_key(const GridIndex& n) {
+  return (static_cast<std::int64_t>(n[2]) << 40) | (static_cast<std::int64_t>(n[1]) << 20) | n[0];
+}
+GridIndex key_node(std::int64_t key) {
+  const std::int64_t mask = (1 << 20) - 1;
+  return {static_cast<int>(key & mask), static_cast<int>((key >> 20) & mask), static_cast<int>(key >> 40)};
+}
+
+CellCorners corners_of(const StepGrid& g, const Eigen::Matrix3Xd& positions, std::int32_t cell) {
   CellCorners Q;
-  for (int c = 0; c < 8; ++c) Q.col(c) = positions.col(g.corner(static_cast<std::size_t>(cell), c));
+  for (int c = 0; c < 8; ++c) Q.col(c) = positions.col(g.corner(cell, c));
   return Q;
 }
 
@@ -34,9 +44,9 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3
   // The minimal cell: the finest subdivision whose lattice holds x. A cell of C^k lies
   // near the grid cell of x at its resolution; from there, walk toward x by the sign of
   // the local coordinates outside [0, 1] (cells near cuts and shrunk points are bent).
-  for (int k = static_cast<int>(level.sub.size()) - 1; k >= 0; --k) {
-    const GridComplex& g = level.sub[k];
-    const int res = g.resolution;
+  for (int k = static_cast<int>(level.fine.size()) - 1; k >= 0; --k) {
+    const StepGrid g = level.step_grid(k);
+    const int res = g.resolution();
     GridIndex c = grid_cell_at(t, res);
     for (int step = 0; step < kMaxWalk; ++step) {
       const std::int32_t cell = g.cell(c[0], c[1], c[2]);
@@ -59,14 +69,15 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3
 
 Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen::Matrix3d* jacobian) const {
   const Level& level = levels_[l];
-  const GridComplex& g = level.sub[where.step];
+  const StepGrid g = level.step_grid(where.step);
   double w[8];
   Eigen::Matrix<double, 8, 3> dw;
   trilinear_weights(where.u, w, jacobian ? &dw : nullptr);
   std::int32_t corner[8];
-  for (int c = 0; c < 8; ++c) corner[c] = g.corner(static_cast<std::size_t>(where.cell), c);
+  for (int c = 0; c < 8; ++c) corner[c] = g.corner(where.cell, c);
+  const auto disp = level.disp[static_cast<std::size_t>(where.step)].map();
   CellCorners D;
-  for (int c = 0; c < 8; ++c) D.col(c) = level.disp[where.step].col(corner[c]);
+  for (int c = 0; c < 8; ++c) D.col(c) = disp.col(corner[c]);
   Eigen::Vector3d d = Eigen::Vector3d::Zero();
   for (int c = 0; c < 8; ++c) d += w[c] * D.col(c);
   if (jacobian) {
@@ -213,14 +224,14 @@ void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, cons
 void OctreeLattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                    std::vector<std::uint32_t>& ids) const {
   if (!any_changed_) return;
+  std::vector<const Marks*> marked;  // the levels a move marked since clear_changes (usually one)
+  for (int l = 0; l < num_levels(); ++l)
+    if (marks(l).any_changed) marked.push_back(&marks(l));
   const auto changed = [&](Eigen::Index v) {
     const Eigen::Vector3d t = box_.to_local(in_pos.col(v));
     if (!in_unit_cube(t, kInsideTolerance)) return false;
-    auto marked = [&](const std::vector<std::uint8_t>& flags, int res) { return flags[grid_slot(t, res)] != 0; };
-    for (const Level& level : levels_)
-      if (marked(level.marks.changed, level.marks.resolution)) return true;
-    for (const Local& entry : local_)
-      if (marked(entry.marks.changed, entry.marks.resolution)) return true;
+    for (const Marks* m : marked)
+      if (m->changed[grid_slot(t, m->resolution)]) return true;
     return false;
   };
   append_selected(in_pos.cols(), changed, ids);  // in parallel, in order
@@ -248,22 +259,26 @@ void OctreeLattice::point_weights(int l, const Eigen::Vector3d& x,
   const Level& level = levels_[l];
   double w[8];
   trilinear_weights(where.u, w, nullptr);
-  std::map<std::int32_t, double> weights;
-  for (int c = 0; c < 8; ++c) weights[level.sub[where.step].corner(static_cast<std::size_t>(where.cell), c)] += w[c];
+  // Keyed by grid node in (k, j, i) order: a built complex's point order, so the sums
+  // below run in the same order for small levels and for a large level's slots.
+  using Weights = std::map<std::int64_t, double>;  // by node_key
+  Weights weights;
+  const StepGrid cell_grid = level.step_grid(where.step);
+  for (int c = 0; c < 8; ++c) weights[node_key(cell_grid.node(cell_grid.corner(where.cell, c)))] += w[c];
   // Back through the Catmull-Clark steps: each subdivided point is a stencil of the
   // points one step coarser.
   Stencil stencil;
   for (int k = where.step; k >= 1; --k) {
-    std::map<std::int32_t, double> coarser;
-    for (const auto& [p, wp] : weights) {
-      subdivision_stencil(level.sub[k - 1], level.sub[k].points[static_cast<std::size_t>(p)],
-                          SubdivisionRule::CatmullClark, stencil);
-      for (const auto& [q, wq] : stencil) coarser[q] += wp * wq;
+    const StepGrid coarse = level.step_grid(k - 1);
+    Weights coarser;
+    for (const auto& [key, wp] : weights) {
+      subdivision_stencil(coarse, key_node(key), SubdivisionRule::CatmullClark, stencil);
+      for (const auto& [q, wq] : stencil) coarser[node_key(coarse.node(q))] += wp * wq;
     }
     weights = std::move(coarser);
   }
-  for (const auto& [p, wp] : weights)
-    if (wp != 0) out.push_back({p, wp});
+  for (const auto& [key, wp] : weights)  // in point order, as the level's points are sorted
+    if (wp != 0) out.push_back({level.sub[0].point(key_node(key)), wp});
 }
 
 }  // namespace ffd

@@ -13,8 +13,10 @@ GridIndex shifted(GridIndex n, int axis, int by) {
 }
 
 /// Adds weighted points, centroids and midpoints of a coarse complex to a stencil.
+/// Complex: a GridComplex, or a StepGrid (a large octree level's implied C^k).
+template <class Complex>
 struct StencilBuilder {
-  const GridComplex& g;
+  const Complex& g;
   Stencil& out;
 
   void point(const GridIndex& n, double w) { out.push_back({g.point(n), w}); }
@@ -34,7 +36,8 @@ struct StencilBuilder {
   }
 };
 
-bool present(const GridComplex& g, const GridIndex& c) { return g.has_cell(c[0], c[1], c[2]); }
+template <class Complex>
+bool present(const Complex& g, const GridIndex& c) { return g.has_cell(c[0], c[1], c[2]); }
 
 /// The cells around the edge along `axis` from node `e`: c[0] = e, c[1] = e - u, c[2] = e - v,
 /// c[3] = e - u - v (u, v the other axes).
@@ -42,7 +45,8 @@ struct EdgeRing {
   GridIndex cell[4];
   bool in[4];
   int count = 0;
-  EdgeRing(const GridComplex& g, const GridIndex& e, int axis) {
+  template <class Complex>
+  EdgeRing(const Complex& g, const GridIndex& e, int axis) {
     const int u = (axis + 1) % 3, v = (axis + 2) % 3;
     cell[0] = e;
     cell[1] = shifted(e, u, -1);
@@ -70,7 +74,8 @@ void edge_faces(const GridIndex& e, int axis, EdgeFace out[4]) {
   out[3] = {shifted(e, v, -1), u, 2, 3};  // spans axis and -v
 }
 
-void edge_stencil(const GridComplex& g, const GridIndex& e, int axis, StencilBuilder& s) {
+template <class Complex>
+void edge_stencil(const Complex& g, const GridIndex& e, int axis, StencilBuilder<Complex>& s) {
   const EdgeRing ring(g, e, axis);
   if (ring.interior()) {  // E = (C_avg + 2 A_avg + (n - 3) M) / n with n = 4 faces
     for (int k = 0; k < 4; ++k) s.cell(ring.cell[k], 1.0 / 16);
@@ -93,7 +98,8 @@ void edge_stencil(const GridComplex& g, const GridIndex& e, int axis, StencilBui
 }
 
 /// The vertex point of a boundary point p (fewer than 8 cells around it).
-void boundary_vertex_stencil(const GridComplex& g, const GridIndex& p, StencilBuilder& s) {
+template <class Complex>
+void boundary_vertex_stencil(const Complex& g, const GridIndex& p, StencilBuilder<Complex>& s) {
   int sharp = 0, boundary_edges = 0;
   GridIndex sharp_edge[6];
   int sharp_axis[6];
@@ -131,7 +137,8 @@ void boundary_vertex_stencil(const GridComplex& g, const GridIndex& p, StencilBu
   s.point(p, (n - 3) / n);
 }
 
-void vertex_stencil(const GridComplex& g, const GridIndex& p, StencilBuilder& s) {
+template <class Complex>
+void vertex_stencil(const Complex& g, const GridIndex& p, StencilBuilder<Complex>& s) {
   int cells = 0;
   for (int k = 0; k < 8; ++k) cells += present(g, {p[0] - (k & 1), p[1] - ((k >> 1) & 1), p[2] - ((k >> 2) & 1)});
   if (cells == 1) return s.point(p, 1.0);  // a corner point stays where it is
@@ -148,11 +155,10 @@ void vertex_stencil(const GridComplex& g, const GridIndex& p, StencilBuilder& s)
   s.point(p, 1.0 / 8);
 }
 
-}  // namespace
-
-void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out) {
+template <class Complex>
+void stencil_of(const Complex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out) {
   out.clear();
-  StencilBuilder s{coarse, out};
+  StencilBuilder<Complex> s{coarse, out};
   const GridIndex base{node[0] >> 1, node[1] >> 1, node[2] >> 1};
   const int odd = (node[0] & 1) + (node[1] & 1) + (node[2] & 1);
   const bool cc = rule == SubdivisionRule::CatmullClark;
@@ -172,6 +178,16 @@ void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, Subdi
   }
   if (!cc) return s.point(base, 1.0);
   vertex_stencil(coarse, base, s);
+}
+
+}  // namespace
+
+void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out) {
+  stencil_of(coarse, node, rule, out);
+}
+
+void subdivision_stencil(const StepGrid& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out) {
+  stencil_of(coarse, node, rule, out);
 }
 
 namespace {
@@ -226,45 +242,86 @@ Eigen::MatrixXd subdivide_sparse_field(const GridComplex& coarse, const GridComp
   return subdivide_where(coarse, fine, X, rule, reached);
 }
 
+namespace {
+
+/// A row-major sparse matrix built a row at a time, in row order.
+struct CsrRows {
+  std::vector<int> starts{0}, columns;
+  std::vector<double> values;
+
+  /// Appends the row of `stencil` with its weights merged per coarse point, summed in the
+  /// stencil's order (as setFromTriplets sums duplicates), columns ascending.
+  void append(const Stencil& stencil) {
+    merged.clear();
+    for (const auto& [p, w] : stencil) {
+      auto at = std::find_if(merged.begin(), merged.end(), [p = p](const auto& e) { return e.first == p; });
+      if (at == merged.end())
+        merged.push_back({p, w});
+      else
+        at->second += w;
+    }
+    std::sort(merged.begin(), merged.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [p, w] : merged) columns.push_back(p), values.push_back(w);
+    starts.push_back(static_cast<int>(columns.size()));
+  }
+
+private:
+  Stencil merged;  // a stencil merges to <= 27 coarse points
+};
+
+/// The matrix of rows made in parts, each part's rows following the previous part's.
+Eigen::SparseMatrix<double, Eigen::RowMajor> csr_matrix(const std::vector<CsrRows>& parts, Eigen::Index rows,
+                                                        Eigen::Index cols) {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> S(rows, cols);
+  std::size_t nonzeros = 0;
+  for (const CsrRows& part : parts) nonzeros += part.columns.size();
+  S.resizeNonZeros(static_cast<Eigen::Index>(nonzeros));
+  int* outer = S.outerIndexPtr();
+  Eigen::Index row = 0;
+  int offset = 0;
+  for (const CsrRows& part : parts) {
+    for (std::size_t r = 0; r + 1 < part.starts.size(); ++r) outer[row++] = offset + part.starts[r];
+    std::copy(part.columns.begin(), part.columns.end(), S.innerIndexPtr() + offset);
+    std::copy(part.values.begin(), part.values.end(), S.valuePtr() + offset);
+    offset += static_cast<int>(part.columns.size());
+  }
+  outer[row] = offset;
+  return S;
+}
+
+}  // namespace
+
 Eigen::MatrixXd subdivide_field_and_matrix(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
                                            SubdivisionRule rule, Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix) {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(X.rows(), static_cast<Eigen::Index>(fine.num_points()));
   const long long n = static_cast<long long>(fine.num_points());
-  std::vector<std::vector<Eigen::Triplet<double>>> parts;
+  std::vector<CsrRows> parts;  // per thread: its static chunk of rows, in order
 #pragma omp parallel
   {
 #pragma omp single
     parts.resize(static_cast<std::size_t>(omp_get_num_threads()));
-    std::vector<Eigen::Triplet<double>>& mine = parts[static_cast<std::size_t>(omp_get_thread_num())];
+    CsrRows& mine = parts[static_cast<std::size_t>(omp_get_thread_num())];
     Stencil stencil;
 #pragma omp for schedule(static)
     for (long long f = 0; f < n; ++f) {
       subdivision_stencil(coarse, fine.points[static_cast<std::size_t>(f)], rule, stencil);
-      for (const auto& [p, w] : stencil) {
-        out.col(f) += w * X.col(p);
-        mine.emplace_back(static_cast<int>(f), p, w);
-      }
+      for (const auto& [p, w] : stencil) out.col(f) += w * X.col(p);
+      mine.append(stencil);
     }
   }
-  std::vector<Eigen::Triplet<double>> all;  // in row order, as subdivision_matrix adds them
-  for (const auto& part : parts) all.insert(all.end(), part.begin(), part.end());
-  matrix.resize(static_cast<Eigen::Index>(fine.num_points()), static_cast<Eigen::Index>(coarse.num_points()));
-  matrix.setFromTriplets(all.begin(), all.end());
+  matrix = csr_matrix(parts, static_cast<Eigen::Index>(fine.num_points()), static_cast<Eigen::Index>(coarse.num_points()));
   return out;
 }
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision_matrix(const GridComplex& coarse,
                                                                const std::vector<GridIndex>& nodes, SubdivisionRule rule) {
-  std::vector<Eigen::Triplet<double>> t;
+  std::vector<CsrRows> rows(1);
   Stencil stencil;
-  for (std::size_t f = 0; f < nodes.size(); ++f) {
-    subdivision_stencil(coarse, nodes[f], rule, stencil);
-    for (const auto& [p, w] : stencil) t.emplace_back(static_cast<int>(f), p, w);
+  for (const GridIndex& node : nodes) {
+    subdivision_stencil(coarse, node, rule, stencil);
+    rows[0].append(stencil);
   }
-  Eigen::SparseMatrix<double, Eigen::RowMajor> S(static_cast<Eigen::Index>(nodes.size()),
-                                                 static_cast<Eigen::Index>(coarse.num_points()));
-  S.setFromTriplets(t.begin(), t.end());
-  return S;
+  return csr_matrix(rows, static_cast<Eigen::Index>(nodes.size()), static_cast<Eigen::Index>(coarse.num_points()));
 }
 
 }  // namespace ffd

@@ -17,6 +17,7 @@
 #include <Eigen/SparseCore>
 
 #include "multires/grid_complex.h"
+#include "multires/step_grid.h"
 
 namespace ffd {
 
@@ -32,6 +33,8 @@ using Stencil = std::vector<std::pair<std::int32_t, double>>;
 /// coarse resolution), replacing `out`. The node must be a corner of a child of a cell of
 /// `coarse`.
 void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out);
+/// The same over a large octree level's implied C^k (point indices: its slots).
+void subdivision_stencil(const StepGrid& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out);
 
 /// The field on the points of `fine` (a sub-complex of refine(coarse), or all of it) from
 /// the field X on the points of `coarse` (one column per point, any number of rows: the
