@@ -423,7 +423,8 @@ std::size_t OctreeLattice::bytes() const {
   for (const Local& entry : local_)
     total += entry.level->bytes() + entry.marks.bytes();
   total += static_cast<std::size_t>(cache_key_.size()) * sizeof(double);
-  for (const auto& tags : cache_) total += tags.size() * sizeof(Tag);
+  for (const auto& tags : cache_) total += tags.capacity() * sizeof(Tag);
+  for (const auto& index : tag_index_) total += index.capacity() * sizeof(std::uint32_t);
   for (const Level& level : levels_) {
     for (const GridComplex& g : level.sub) total += g.bytes();
     for (const Eigen::Matrix3Xd& m : level.fine) total += static_cast<std::size_t>(m.size()) * sizeof(double);

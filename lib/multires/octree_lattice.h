@@ -189,8 +189,13 @@ private:
     std::vector<std::uint8_t> changed, active;
     std::vector<std::uint32_t> epochs;
     bool any_changed = false;  // some cell is in `changed`
+    std::size_t active_cells = 0;
     explicit Marks(int res = 1);
-    void mark(std::size_t cell) { changed[cell] = active[cell] = 1, ++epochs[cell], any_changed = true; }
+    void mark(std::size_t cell) {
+      active_cells += !active[cell];
+      changed[cell] = active[cell] = 1, ++epochs[cell], any_changed = true;
+    }
+    bool all_active() const { return active_cells == active.size(); }
     void clear_changes();
     std::size_t bytes() const { return changed.size() + active.size() + sizeof(std::uint32_t) * epochs.size(); }
   };
@@ -254,6 +259,9 @@ private:
   /// Delta_l of grid level l: the octree rules' image of the coarser deformation plus its moves.
   const Eigen::MatrixXd& deformation(int level) const;
   void size_cache(Eigen::Index vertices) const;
+  /// Gives a tag to each vertex of `ids` (inside the box) that lies in a cell a moved level
+  /// marked active and has none there yet; serial, before the parallel apply.
+  void assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids) const;
   struct Tag;
   bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag) const;
   bool tagged_local_part(int level, const Eigen::Vector3d& x, Tag& tag) const;
@@ -293,7 +301,12 @@ private:
     std::uint8_t state = 0;  // 0: not located yet, 1: in a cell, 2: in none
     bool inside = false;     // d and J are a part
   };
+  // Tags exist only where a level can move a vertex: per level, per vertex, 1 + the index
+  // of its tag in cache_[level], or 0 when it has none (its cell was not active there when
+  // it was last applied; the level's part is zero). A first move at a fine level tags the
+  // few vertices of its marked cells, not every vertex.
   mutable Eigen::Matrix3Xd cache_key_;
+  mutable std::vector<std::vector<std::uint32_t>> tag_index_;
   mutable std::vector<std::vector<Tag>> cache_;
 };
 

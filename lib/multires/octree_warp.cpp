@@ -175,16 +175,42 @@ void OctreeLattice::size_cache(Eigen::Index vertices) const {
     cache_key_.conservativeResize(3, vertices);
     cache_key_.rightCols(vertices - old).setConstant(std::numeric_limits<double>::quiet_NaN());  // matches nothing
   }
-  cache_.resize(static_cast<std::size_t>(num_levels()));
-  for (int l = 0; l < num_levels(); ++l)
-    if (moved(l) && cache_[static_cast<std::size_t>(l)].size() < static_cast<std::size_t>(vertices))
-      cache_[static_cast<std::size_t>(l)].resize(static_cast<std::size_t>(vertices));
+  const auto levels = static_cast<std::size_t>(num_levels());
+  cache_.resize(levels);
+  tag_index_.resize(levels);
+  for (std::size_t l = 0; l < levels; ++l)
+    if (moved(static_cast<int>(l)) && tag_index_[l].size() < static_cast<std::size_t>(vertices))
+      tag_index_[l].resize(static_cast<std::size_t>(vertices), 0);
+}
+
+void OctreeLattice::assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                const std::vector<std::uint32_t>& ids) const {
+  for (int l = 0; l < num_levels(); ++l) {
+    if (!moved(l)) continue;
+    std::vector<std::uint32_t>& index = tag_index_[static_cast<std::size_t>(l)];
+    std::vector<Tag>& tags = cache_[static_cast<std::size_t>(l)];
+    const Marks& m = marks(l);
+    std::size_t count = tags.size();
+    if (m.all_active()) {  // coarse levels: every vertex (one outside the box keeps an unused tag)
+      for (const std::uint32_t v : ids)
+        if (index[v] == 0) index[v] = static_cast<std::uint32_t>(++count);
+    } else {
+      for (const std::uint32_t v : ids) {
+        if (index[v] != 0) continue;
+        const Eigen::Vector3d t = box_.to_local(in_pos.col(v));
+        if (in_unit_cube(t, kInsideTolerance) && m.active[grid_slot(t, m.resolution)])
+          index[v] = static_cast<std::uint32_t>(++count);
+      }
+    }
+    tags.resize(count);  // one allocation: the new tags, not yet located
+  }
 }
 
 void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
                           const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                           Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const {
   size_cache(in_pos.cols());
+  assign_tags(in_pos, ids);
   std::size_t folded = 0, evaluated = 0;
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size());
 #pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
@@ -201,7 +227,9 @@ void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, cons
     if (in_unit_cube(t, kInsideTolerance))
       for (int l = 0; l < num_levels(); ++l) {
         if (!moved(l)) continue;
-        if (!tagged_part(l, x, t, same, cache_[static_cast<std::size_t>(l)][v], dl, Jl)) continue;
+        const std::uint32_t tag = tag_index_[static_cast<std::size_t>(l)][v];
+        if (tag == 0) continue;  // not in a cell the level marked active: its part is zero
+        if (!tagged_part(l, x, t, same, cache_[static_cast<std::size_t>(l)][tag - 1], dl, Jl)) continue;
         d += dl;
         J += Jl;
         inside = true;

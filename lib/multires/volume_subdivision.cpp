@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <iterator>
 
 namespace ffd {
 namespace {
@@ -12,14 +13,37 @@ GridIndex shifted(GridIndex n, int axis, int by) {
   return n;
 }
 
-/// Adds weighted points, centroids and midpoints of a coarse complex to a stencil.
+/// A stencil's points lie within one node of the new point's coarse node `base` on every
+/// axis: the 27 nodes of base + [-1, 1]^3, numbered in (k, j, i) order. kFar: outside them.
+constexpr std::uint8_t kFar = 27;
+
+/// Adds weighted points, centroids and midpoints of a coarse complex to a stencil, looking
+/// up each of the 27 nodes near `base` once. `near`, when given, gets each entry's node
+/// number (or kFar).
 /// Complex: a GridComplex, or a StepGrid (a large octree level's implied C^k).
 template <class Complex>
 struct StencilBuilder {
   const Complex& g;
   Stencil& out;
+  GridIndex base;
+  std::vector<std::uint8_t>* near = nullptr;
+  std::int32_t ids[27];
 
-  void point(const GridIndex& n, double w) { out.push_back({g.point(n), w}); }
+  StencilBuilder(const Complex& complex, Stencil& stencil, const GridIndex& b, std::vector<std::uint8_t>* n)
+      : g(complex), out(stencil), base(b), near(n) {
+    std::fill(std::begin(ids), std::end(ids), kUnknown);
+  }
+  void point(const GridIndex& n, double w) {
+    const int dx = n[0] - base[0] + 1, dy = n[1] - base[1] + 1, dz = n[2] - base[2] + 1;
+    const bool far = static_cast<unsigned>(dx) > 2 || static_cast<unsigned>(dy) > 2 || static_cast<unsigned>(dz) > 2;
+    const int slot = far ? kFar : (dz * 3 + dy) * 3 + dx;
+    if (!far && ids[slot] == kUnknown) ids[slot] = g.point(n);
+    // Member by member: a pair built whole and copied in is a store-forwarding stall.
+    auto& entry = out.emplace_back();
+    entry.first = far ? g.point(n) : ids[slot];
+    entry.second = w;
+    if (near) near->push_back(static_cast<std::uint8_t>(slot));
+  }
   /// Centroid of the cell whose first corner is `c`.
   void cell(const GridIndex& c, double w) {
     for (int k = 0; k < 8; ++k) point({c[0] + (k & 1), c[1] + ((k >> 1) & 1), c[2] + ((k >> 2) & 1)}, w / 8);
@@ -34,6 +58,9 @@ struct StencilBuilder {
     point(e, w / 2);
     point(shifted(e, axis, 1), w / 2);
   }
+
+private:
+  static constexpr std::int32_t kUnknown = -2;  // not looked up yet (-1: no point there)
 };
 
 template <class Complex>
@@ -156,10 +183,12 @@ void vertex_stencil(const Complex& g, const GridIndex& p, StencilBuilder<Complex
 }
 
 template <class Complex>
-void stencil_of(const Complex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out) {
+void stencil_of(const Complex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out,
+                std::vector<std::uint8_t>* near = nullptr) {
   out.clear();
-  StencilBuilder<Complex> s{coarse, out};
+  if (near) near->clear();
   const GridIndex base{node[0] >> 1, node[1] >> 1, node[2] >> 1};
+  StencilBuilder<Complex> s(coarse, out, base, near);
   const int odd = (node[0] & 1) + (node[1] & 1) + (node[2] & 1);
   const bool cc = rule == SubdivisionRule::CatmullClark;
   if (odd == 3) return s.cell(base, 1.0);
@@ -250,9 +279,38 @@ struct CsrRows {
   std::vector<double> values;
 
   /// Appends the row of `stencil` with its weights merged per coarse point, summed in the
-  /// stencil's order (as setFromTriplets sums duplicates), columns ascending.
-  void append(const Stencil& stencil) {
-    merged.clear();
+  /// stencil's order (as setFromTriplets sums duplicates), columns ascending. `near`: each
+  /// entry's node number near the new point (stencil_of): merged by number, in number
+  /// order, which is the coarse points' order (a GridComplex numbers its points by (k, j, i)).
+  /// Room for `rows` rows of at most 27 entries: one allocation, of which only what is
+  /// written gets memory.
+  void reserve(std::size_t rows) {
+    starts.reserve(rows + 1);
+    columns.reserve(27 * rows);
+    values.reserve(27 * rows);
+  }
+  void append(const Stencil& stencil, const std::vector<std::uint8_t>& near) {
+    if (std::find(near.begin(), near.end(), kFar) != near.end()) return append_far(stencil);
+    std::uint32_t seen = 0;
+    for (std::size_t i = 0; i < stencil.size(); ++i) {
+      const std::uint8_t n = near[i];
+      if (seen >> n & 1) {
+        sum[n] += stencil[i].second;
+      } else {
+        seen |= 1u << n;
+        sum[n] = stencil[i].second;
+        id[n] = stencil[i].first;
+      }
+    }
+    for (int n = 0; n < 27; ++n)
+      if (seen >> n & 1) columns.push_back(id[n]), values.push_back(sum[n]);
+    starts.push_back(static_cast<int>(columns.size()));
+  }
+
+private:
+  /// The same for a stencil reaching beyond the 27 nodes (none of the grid rules do).
+  void append_far(const Stencil& stencil) {
+    Stencil merged;
     for (const auto& [p, w] : stencil) {
       auto at = std::find_if(merged.begin(), merged.end(), [p = p](const auto& e) { return e.first == p; });
       if (at == merged.end())
@@ -264,9 +322,8 @@ struct CsrRows {
     for (const auto& [p, w] : merged) columns.push_back(p), values.push_back(w);
     starts.push_back(static_cast<int>(columns.size()));
   }
-
-private:
-  Stencil merged;  // a stencil merges to <= 27 coarse points
+  double sum[27];
+  std::int32_t id[27];
 };
 
 /// The matrix of rows made in parts, each part's rows following the previous part's.
@@ -301,12 +358,14 @@ Eigen::MatrixXd subdivide_field_and_matrix(const GridComplex& coarse, const Grid
 #pragma omp single
     parts.resize(static_cast<std::size_t>(omp_get_num_threads()));
     CsrRows& mine = parts[static_cast<std::size_t>(omp_get_thread_num())];
+    mine.reserve(static_cast<std::size_t>(n / omp_get_num_threads() + 1));
     Stencil stencil;
+    std::vector<std::uint8_t> near;
 #pragma omp for schedule(static)
     for (long long f = 0; f < n; ++f) {
-      subdivision_stencil(coarse, fine.points[static_cast<std::size_t>(f)], rule, stencil);
+      stencil_of(coarse, fine.points[static_cast<std::size_t>(f)], rule, stencil, &near);
       for (const auto& [p, w] : stencil) out.col(f) += w * X.col(p);
-      mine.append(stencil);
+      mine.append(stencil, near);
     }
   }
   matrix = csr_matrix(parts, static_cast<Eigen::Index>(fine.num_points()), static_cast<Eigen::Index>(coarse.num_points()));
@@ -317,9 +376,10 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision_matrix(const GridComple
                                                                const std::vector<GridIndex>& nodes, SubdivisionRule rule) {
   std::vector<CsrRows> rows(1);
   Stencil stencil;
+  std::vector<std::uint8_t> near;
   for (const GridIndex& node : nodes) {
-    subdivision_stencil(coarse, node, rule, stencil);
-    rows[0].append(stencil);
+    stencil_of(coarse, node, rule, stencil, &near);
+    rows[0].append(stencil, near);
   }
   return csr_matrix(rows, static_cast<Eigen::Index>(nodes.size()), static_cast<Eigen::Index>(coarse.num_points()));
 }
