@@ -247,6 +247,20 @@ TEST(Lattice, PointsWithoutNormalsSkipTheJacobianOnlyWhereNothingCanFold) {
       if (lattice->fold_free()) {
         EXPECT_EQ(folds, 0u) << c.name;  // the bound is sound
       }
+      // A run that needs no normals (WarpStack, Mesh::normals_deferred): positions alone
+      // where nothing can fold, the zero-normal apply's bit for bit with its counts;
+      // elsewhere the warp declines and writes nothing.
+      Eigen::Matrix3Xd alone = Eigen::Matrix3Xd::Constant(3, pts.cols(), 7.0);
+      WarpCounts alone_counts;
+      const bool took = lattice->apply_without_normals(pts, ids, alone, alone_counts);
+      EXPECT_EQ(took, lattice->fold_free()) << c.name << " " << size;
+      if (took) {
+        EXPECT_EQ(alone, fast) << c.name << " " << size;
+        EXPECT_EQ(alone_counts.folded, without.folded) << c.name << " " << size;
+        EXPECT_EQ(alone_counts.evaluated, without.evaluated) << c.name << " " << size;
+      } else {
+        EXPECT_TRUE((alone.array() == 7.0).all()) << c.name << " " << size;
+      }
     }
 }
 

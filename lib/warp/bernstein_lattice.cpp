@@ -286,10 +286,24 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
 
 void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                        const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos) const {
+  positions(in_pos, ids, out_pos);
+}
+
+bool BernsteinLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                             const std::vector<std::uint32_t>& ids,
+                                             Eigen::Ref<Eigen::Matrix3Xd> out_pos, WarpCounts& counts) const {
+  if (!fold_free()) return false;  // apply() counts the folds through the Jacobian
+  counts.evaluated += positions(in_pos, ids, out_pos);
+  return true;
+}
+
+std::size_t BernsteinLattice::positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                        const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos) const {
   const int n[3] = {cells_[0], cells_[1], cells_[2]};
   const std::vector<double> D = packed_displacements();
   const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + kBlock - 1) / kBlock);
-#pragma omp parallel for schedule(static)
+  std::size_t inside = 0;
+#pragma omp parallel for schedule(static) reduction(+ : inside)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t first = static_cast<std::size_t>(b) * kBlock;
     BlockPoints<kBlock> p;
@@ -302,8 +316,10 @@ void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>&
     for (int l = 0; l < p.lanes; ++l) {
       const std::uint32_t v = ids[first + l];
       for (int c = 0; c < 3; ++c) out_pos(c, v) = p.in[l] ? in_pos(c, v) + acc[c][l] : in_pos(c, v);
+      inside += p.in[l];
     }
   }
+  return inside;
 }
 
 }  // namespace ffd

@@ -49,6 +49,10 @@ public:
   /// block's points (which the compiler vectorizes), in apply()'s order of summation.
   void apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
                        Eigen::Ref<Eigen::Matrix3Xd> out_pos) const;
+  /// apply_positions when the lattice cannot fold (Lattice::fold_free): apply() takes
+  /// zero normals that way too, and counts no fold.
+  bool apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
+                             Eigen::Ref<Eigen::Matrix3Xd> out_pos, WarpCounts& counts) const override;
   static constexpr int kBlock = 16;
 
 protected:
@@ -56,6 +60,9 @@ protected:
   void pieces_of_point(int axis, int i, int& lo, int& hi) const override { lo = hi = 0; }
 
 private:
+  /// apply_positions, returning how many of the points lie in the box (moved).
+  std::size_t positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
+                        Eigen::Ref<Eigen::Matrix3Xd> out_pos) const;
   /// The displacements as [i][j][k][x, y, z], the kernels' order.
   std::vector<double> packed_displacements() const;
 };

@@ -244,11 +244,16 @@ struct CellChunk {
     for (std::int32_t& b : slot_block) b = -1;
     for (double* row : sorted) std::fill(row, row + kSize + kLanes, 0.0);
   }
+  /// Whether block numbers index the table directly (a lattice of at most kSlots blocks:
+  /// no probing, whose unpredictable branches cost more than the rest of a point's locate).
+  bool direct = false;
+
   /// Adds a vertex in `block` at local coordinates `u`; false (nothing added) when full.
   bool add(std::uint32_t v, std::int32_t block, const double u[3]) {
     if (count == kSize) return false;
-    int h = static_cast<int>((static_cast<std::uint32_t>(block) * 2654435761u) >> 22);
-    while (slot_block[h] != -1 && slot_block[h] != block) h = (h + 1) % kSlots;
+    int h = direct ? block : static_cast<int>((static_cast<std::uint32_t>(block) * 2654435761u) >> 22);
+    if (!direct)
+      while (slot_block[h] != -1 && slot_block[h] != block) h = (h + 1) % kSlots;
     if (slot_block[h] == -1) {
       if (cells == kMaxCells) return false;
       slot_block[h] = block;
@@ -263,7 +268,10 @@ struct CellChunk {
   }
   void sort(const Eigen::Ref<const Eigen::Matrix3Xd>& pos, const Eigen::Ref<const Eigen::Matrix3Xd>* nrm);
   void clear() {
-    for (int h = 0; h < kSlots && cells > 0; ++h) slot_block[h] = -1;
+    if (direct)
+      for (int c = 0; c < cells; ++c) slot_block[cell_block[c]] = -1;
+    else
+      for (int h = 0; h < kSlots && cells > 0; ++h) slot_block[h] = -1;
     count = cells = 0;
   }
 };
@@ -378,6 +386,7 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
 #pragma omp parallel reduction(+ : folded, evaluated)
   {
     const std::unique_ptr<CellChunk> chunk(new CellChunk);
+    chunk->direct = blocks_.size() / kernel.block_size <= static_cast<std::size_t>(CellChunk::kSlots);
 #pragma omp for schedule(static)
     for (std::ptrdiff_t c = 0; c < chunks; ++c) {
       for (std::ptrdiff_t t = c * kChunk; t < std::min(n_ids, (c + 1) * kChunk); ++t) {
@@ -427,6 +436,23 @@ void BSplineLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
     default:
       evaluate<3>(in_pos, &in_nrm, ids, out_pos, &out_nrm, counts);
   }
+}
+
+bool BSplineLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                           const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                                           WarpCounts& counts) const {
+  if (!fold_free()) return false;  // apply() counts the folds through the Jacobian
+  switch (degree_) {
+    case 1:
+      evaluate<1>(in_pos, nullptr, ids, out_pos, nullptr, counts);
+      break;
+    case 2:
+      evaluate<2>(in_pos, nullptr, ids, out_pos, nullptr, counts);
+      break;
+    default:
+      evaluate<3>(in_pos, nullptr, ids, out_pos, nullptr, counts);
+  }
+  return true;
 }
 
 void BSplineLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,

@@ -40,6 +40,11 @@ public:
              WarpCounts& counts) const override;
   using Lattice::apply;
 
+  /// Positions only when the lattice cannot fold (Lattice::fold_free): apply() evaluates
+  /// zero normals that way too, and counts no fold.
+  bool apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
+                             Eigen::Ref<Eigen::Matrix3Xd> out_pos, WarpCounts& counts) const override;
+
   /// Positions only, for callers that need no normals (benchmarks, drag residuals).
   void apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                        const std::vector<std::uint32_t>& ids,

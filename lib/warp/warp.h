@@ -32,6 +32,16 @@ public:
                      const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                      Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const = 0;
 
+  /// apply() for points whose normals are all zero (a run that needs no normals:
+  /// Mesh::normals_deferred), when the warp can give the same positions and counts
+  /// without them: out_pos as apply() writes it, normals left alone (apply() would write
+  /// zeros). False: it cannot here, and wrote nothing; the caller uses apply().
+  virtual bool apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                                     WarpCounts& counts) const {
+    return false;
+  }
+
   /// Appends to `ids` the columns of `in_pos` that lie where the warp changed since the
   /// last clear_changes() (Gain & Dodgson's bit index of altered cells).
   virtual void changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,

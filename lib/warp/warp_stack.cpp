@@ -55,11 +55,15 @@ WarpStack::Update WarpStack::update(Mesh& mesh, std::size_t k) {
   std::vector<std::uint32_t> ids;
   changed.changed_points(input_pos(k), ids);
   WarpCounts counts;
+  // Normals deferred: every normal is zero and stays so (warps keep zero normals zero), so
+  // a warp that can evaluate positions alone need not read or write them.
+  const bool zero_normals = mesh.normals_deferred();
   for (std::size_t j = k; j < warps_.size(); ++j) {
     const bool top = j + 1 == warps_.size();
     warps_[j]->prepare();
-    warps_[j]->apply(input_pos(j), input_nrm(j), ids, top ? mesh.positions() : input_pos(j + 1),
-                     top ? mesh.normals() : input_nrm(j + 1), counts);
+    const auto out_pos = top ? mesh.positions() : input_pos(j + 1);
+    if (zero_normals && warps_[j]->apply_without_normals(input_pos(j), ids, out_pos, counts)) continue;
+    warps_[j]->apply(input_pos(j), input_nrm(j), ids, out_pos, top ? mesh.normals() : input_nrm(j + 1), counts);
   }
   changed.clear_changes();
   result.moved = ids.size();
