@@ -67,6 +67,10 @@ std::string read_to_end(int fd, std::size_t expected, const std::string& path) {
 
 }  // namespace
 
+void FileBytes::release_pages() const {
+  if (mapped_) ::madvise(const_cast<char*>(data_), size_, MADV_DONTNEED);  // advice: failing it changes nothing
+}
+
 FileBytes read_file_bytes(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(At{path}, "no such file");

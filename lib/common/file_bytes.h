@@ -32,6 +32,11 @@ class FileBytes {
   std::size_t size() const { return size_; }
   std::string_view view() const { return {data_, size_}; }
   operator std::string_view() const { return view(); }  // NOLINT: a view of the bytes
+  /// Gives a mapped file's resident pages back (they stay in the page cache, and a later
+  /// read of the bytes faults them in again): a reader that has parsed the file calls it
+  /// before building from what it parsed, so the file and the built mesh are not both in
+  /// the process's memory at its peak. A no-op for bytes in a buffer.
+  void release_pages() const;
 
  private:
   friend FileBytes read_file_bytes(const std::string& path);

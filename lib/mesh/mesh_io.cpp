@@ -143,6 +143,7 @@ Mesh read_mesh(const std::string& path, bool defer_normals) {
   }
   // Nothing to deform, and nothing a step could write back: not a mesh.
   if (soup.positions.empty()) throw InputError(At{path}, "the file has no vertex");
+  bytes.release_pages();  // parsed: the file's pages need not stay beside the mesh being built
   return build_mesh(std::move(soup), path, defer_normals);
 }
 
