@@ -278,10 +278,6 @@ struct CsrRows {
   std::vector<int> starts{0}, columns;
   std::vector<double> values;
 
-  /// Appends the row of `stencil` with its weights merged per coarse point, summed in the
-  /// stencil's order (as setFromTriplets sums duplicates), columns ascending. `near`: each
-  /// entry's node number near the new point (stencil_of): merged by number, in number
-  /// order, which is the coarse points' order (a GridComplex numbers its points by (k, j, i)).
   /// Room for `rows` rows of at most 27 entries: one allocation, of which only what is
   /// written gets memory.
   void reserve(std::size_t rows) {
@@ -289,6 +285,11 @@ struct CsrRows {
     columns.reserve(27 * rows);
     values.reserve(27 * rows);
   }
+  /// Appends the row of `stencil` (over a GridComplex) with its weights merged per coarse
+  /// point, summed in the stencil's order (as setFromTriplets sums duplicates), columns
+  /// ascending. `near`: each entry's node number near the new point (stencil_of): merged
+  /// by number, in number order, which is the coarse points' order (a GridComplex numbers
+  /// its points by (k, j, i)).
   void append(const Stencil& stencil, const std::vector<std::uint8_t>& near) {
     if (std::find(near.begin(), near.end(), kFar) != near.end()) return append_far(stencil);
     std::uint32_t seen = 0;
