@@ -422,36 +422,32 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   counts.folded += folded;
 }
 
+void BSplineLattice::evaluate_degree(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                     const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
+                                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
+                                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const {
+  switch (degree_) {
+    case 1:
+      return evaluate<1>(in_pos, in_nrm, ids, out_pos, out_nrm, counts);
+    case 2:
+      return evaluate<2>(in_pos, in_nrm, ids, out_pos, out_nrm, counts);
+    default:
+      return evaluate<3>(in_pos, in_nrm, ids, out_pos, out_nrm, counts);
+  }
+}
+
 void BSplineLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                            const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
                            const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                            Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const {
-  switch (degree_) {
-    case 1:
-      evaluate<1>(in_pos, &in_nrm, ids, out_pos, &out_nrm, counts);
-      break;
-    case 2:
-      evaluate<2>(in_pos, &in_nrm, ids, out_pos, &out_nrm, counts);
-      break;
-    default:
-      evaluate<3>(in_pos, &in_nrm, ids, out_pos, &out_nrm, counts);
-  }
+  evaluate_degree(in_pos, &in_nrm, ids, out_pos, &out_nrm, counts);
 }
 
 bool BSplineLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                            const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                                            WarpCounts& counts) const {
   if (!fold_free()) return false;  // apply() counts the folds through the Jacobian
-  switch (degree_) {
-    case 1:
-      evaluate<1>(in_pos, nullptr, ids, out_pos, nullptr, counts);
-      break;
-    case 2:
-      evaluate<2>(in_pos, nullptr, ids, out_pos, nullptr, counts);
-      break;
-    default:
-      evaluate<3>(in_pos, nullptr, ids, out_pos, nullptr, counts);
-  }
+  evaluate_degree(in_pos, nullptr, ids, out_pos, nullptr, counts);
   return true;
 }
 
@@ -459,16 +455,7 @@ void BSplineLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& i
                                      const std::vector<std::uint32_t>& ids,
                                      Eigen::Ref<Eigen::Matrix3Xd> out_pos) const {
   WarpCounts counts;
-  switch (degree_) {
-    case 1:
-      evaluate<1>(in_pos, nullptr, ids, out_pos, nullptr, counts);
-      break;
-    case 2:
-      evaluate<2>(in_pos, nullptr, ids, out_pos, nullptr, counts);
-      break;
-    default:
-      evaluate<3>(in_pos, nullptr, ids, out_pos, nullptr, counts);
-  }
+  evaluate_degree(in_pos, nullptr, ids, out_pos, nullptr, counts);
 }
 
 }  // namespace ffd

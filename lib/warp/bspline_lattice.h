@@ -78,6 +78,10 @@ private:
                 const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, const std::vector<std::uint32_t>& ids,
                 Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
                 WarpCounts& counts) const;
+  /// evaluate<D> for the lattice's degree.
+  void evaluate_degree(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
+                       const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
+                       Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const;
   void compute_block(std::size_t piece) const;
 
   int degree_;
