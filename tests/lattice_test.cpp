@@ -28,6 +28,8 @@ std::vector<LatticeCase> all_lattices() {
       {"bspline2", [](const Parallelepiped& b) { return std::make_unique<BSplineLattice>(b, Index3{4, 3, 5}, 2); }},
       {"bspline3", [](const Parallelepiped& b) { return std::make_unique<BSplineLattice>(b, Index3{5, 6, 4}, 3); }},
       {"bernstein", [](const Parallelepiped& b) { return std::make_unique<BernsteinLattice>(b, Index3{3, 5, 2}); }},
+      // Degree 3 on every axis has kernels of its own (the degree known when compiled).
+      {"bernstein_cubic", [](const Parallelepiped& b) { return std::make_unique<BernsteinLattice>(b, Index3{3, 3, 3}); }},
       {"bernstein_high", [](const Parallelepiped& b) { return std::make_unique<BernsteinLattice>(b, Index3{9, 1, 12}); }},
   };
 }

@@ -58,8 +58,9 @@ constexpr int kJacobianLanes = 8;
 
 // B_i^n at each lane's u, out[i][lane], by bernstein()'s recurrence. Every loop over the
 // lanes is `omp simd`: left alone, GCC unrolls the lanes and vectorizes the loop over k.
-template <int L>
-void bernstein_block(int n, const Lanes<L>& u, Lanes<L>* out) {
+template <int L, int N = 0>
+void bernstein_block(int degree, const Lanes<L>& u, Lanes<L>* out) {
+  const int n = N > 0 ? N : degree;  // N > 0: the degree, known when compiled
 #pragma omp simd
   for (int l = 0; l < L; ++l) out[0][l] = 1;
   for (int d = 1; d <= n; ++d) {
@@ -77,8 +78,10 @@ void bernstein_block(int n, const Lanes<L>& u, Lanes<L>* out) {
 // sum_i B_i(u) sum_j B_j(v) sum_k B_k(w) D_ijk per lane and coordinate, D the displacements
 // as [i][j][k][x, y, z]: k, then j, then i, as apply() sums. The three coordinates go
 // together, so each basis value is loaded once.
-template <int L>
-void contract_block(const int* n, const double* D, const Lanes<L>* const* w, Lanes<L> (&acc)[3]) {
+// N > 0: every degree is N, known when compiled (unrolled loops, the same sums).
+template <int L, int N = 0>
+void contract_block(const int* degrees, const double* D, const Lanes<L>* const* w, Lanes<L> (&acc)[3]) {
+  const int n[3] = {N > 0 ? N : degrees[0], N > 0 ? N : degrees[1], N > 0 ? N : degrees[2]};
   for (Lanes<L>& a : acc) std::fill(a, a + L, 0.0);
   for (int i = 0; i <= n[0]; ++i) {
     Lanes<L> si[3] = {};
@@ -133,9 +136,10 @@ struct BlockSums {
 // contract_block with the three derivatives: the same sums over k, then j, then i, with
 // one axis's basis replaced by its derivative, in the order the derivatives share partial
 // sums (sum_k B_k(w) D and sum_k B_k'(w) D, then over j, then over i).
-template <int L>
-void contract_jacobian_block(const int* n, const double* D, const Lanes<L>* const* w, const Lanes<L>* const* dw,
+template <int L, int N = 0>
+void contract_jacobian_block(const int* degrees, const double* D, const Lanes<L>* const* w, const Lanes<L>* const* dw,
                              BlockSums<L>& out) {
+  const int n[3] = {N > 0 ? N : degrees[0], N > 0 ? N : degrees[1], N > 0 ? N : degrees[2]};
   out = BlockSums<L>{};
   for (int i = 0; i <= n[0]; ++i) {
     Lanes<L> si[3] = {}, si_v[3] = {}, si_w[3] = {};
@@ -247,6 +251,7 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   // Where no point can fold and no normal is to be carried (a point cloud's, or a run's
   // that needs none: zero), the Jacobian is not needed: positions only.
   const bool no_folds = fold_free();
+  const bool cubic = n[0] == 3 && n[1] == 3 && n[2] == 3;  // PyGeM's and most users' degree
 #pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t first = static_cast<std::size_t>(b) * L;
@@ -261,7 +266,10 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
     const Lanes<L>* const axes[3] = {w[0], w[1], w[2]};
     const Lanes<L>* const slopes[3] = {dw[0], dw[1], dw[2]};
     BlockSums<L> s;
-    contract_jacobian_block<L>(n, D.data(), axes, slopes, s);
+    if (cubic)
+      contract_jacobian_block<L, 3>(n, D.data(), axes, slopes, s);
+    else
+      contract_jacobian_block<L>(n, D.data(), axes, slopes, s);
     for (int l = 0; l < p.lanes; ++l) {
       const std::uint32_t v = ids[first + l];
       if (!p.in[l]) {
@@ -303,16 +311,22 @@ std::size_t BernsteinLattice::positions(const Eigen::Ref<const Eigen::Matrix3Xd>
   const std::vector<double> D = packed_displacements();
   const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + kBlock - 1) / kBlock);
   std::size_t inside = 0;
+  const bool cubic = n[0] == 3 && n[1] == 3 && n[2] == 3;  // PyGeM's and most users' degree
 #pragma omp parallel for schedule(static) reduction(+ : inside)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t first = static_cast<std::size_t>(b) * kBlock;
     BlockPoints<kBlock> p;
     load_block(in_pos, ids, first, box_, p);
     Block w[3][kMaxDegree + 1];
-    for (int a = 0; a < 3; ++a) bernstein_block<kBlock>(n[a], p.u[a], w[a]);
     const Block* const axes[3] = {w[0], w[1], w[2]};
     Block acc[3];
-    contract_block<kBlock>(n, D.data(), axes, acc);
+    if (cubic) {
+      for (int a = 0; a < 3; ++a) bernstein_block<kBlock, 3>(3, p.u[a], w[a]);
+      contract_block<kBlock, 3>(n, D.data(), axes, acc);
+    } else {
+      for (int a = 0; a < 3; ++a) bernstein_block<kBlock>(n[a], p.u[a], w[a]);
+      contract_block<kBlock>(n, D.data(), axes, acc);
+    }
     for (int l = 0; l < p.lanes; ++l) {
       const std::uint32_t v = ids[first + l];
       for (int c = 0; c < 3; ++c) out_pos(c, v) = p.in[l] ? in_pos(c, v) + acc[c][l] : in_pos(c, v);
