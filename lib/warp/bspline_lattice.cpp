@@ -303,6 +303,7 @@ struct CellKernel {
   Eigen::Matrix3d K;       // dσ/dx
   Eigen::Ref<Eigen::Matrix3Xd>& out_pos;
   Eigen::Ref<Eigen::Matrix3Xd>* out_nrm;
+  bool count_folds = false;  // without normals: still count det J <= 0 (out_nrm null)
 };
 
 v8d load_lanes(const double* p) {
@@ -320,10 +321,15 @@ void evaluate_lanes(const CellKernel& k, const CellChunk& chunk, int cell, int a
   const v8d s = load_lanes(chunk.sorted[0] + at), t = load_lanes(chunk.sorted[1] + at),
             r = load_lanes(chunk.sorted[2] + at);
   v8d V[3], Vs[3], Vt[3], Vr[3], m[3], det, len;
-  if (k.out_nrm)
+  if (k.out_nrm || k.count_folds)
     horner_lanes<D, true>(C, s, t, r, V, Vs, Vt, Vr);
   else
     horner_lanes<D, false>(C, s, t, r, V, Vs, Vt, Vr);
+  if (k.count_folds) {  // det J as the normals' kernel computes it, for a zero normal
+    const v8d zero = {};
+    const v8d n[3] = {zero, zero, zero};
+    cofactor_lanes(Vs, Vt, Vr, k.K, n, m, det);
+  }
   if (k.out_nrm) {
     const v8d n[3] = {load_lanes(chunk.sorted[6] + at), load_lanes(chunk.sorted[7] + at),
                       load_lanes(chunk.sorted[8] + at)};
@@ -336,6 +342,7 @@ void evaluate_lanes(const CellKernel& k, const CellChunk& chunk, int cell, int a
   for (int i = 0; i < lanes; ++i) {
     const std::uint32_t v = chunk.sorted_vertex[at + i];
     k.out_pos.col(v) = Eigen::Vector3d(V[0][i], V[1][i], V[2][i]);
+    if (k.count_folds) folded += det[i] <= 0;
     if (!k.out_nrm) continue;
     k.out_nrm->col(v) = len[i] > 0 ? Eigen::Vector3d(m[0][i], m[1][i], m[2][i]) : Eigen::Vector3d::Zero();
     folded += det[i] <= 0;
@@ -354,7 +361,7 @@ void evaluate_chunk(const CellKernel& k, CellChunk& chunk, const Eigen::Ref<cons
     positions_only = true;
     for (int i = 0; i < chunk.count && positions_only; ++i) positions_only = in_nrm->col(chunk.vertex[i]).isZero(0.0);
   }
-  const CellKernel positions{k.blocks, k.block_size, k.K, k.out_pos, nullptr};
+  const CellKernel positions{k.blocks, k.block_size, k.K, k.out_pos, nullptr, false};
   const CellKernel& kernel = positions_only ? positions : k;
   chunk.sort(in_pos, kernel.out_nrm ? in_nrm : nullptr);
   for (int cell = 0; cell < chunk.cells; ++cell)
@@ -371,10 +378,10 @@ template <int D>
 void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                               const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                               const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
-                              Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const {
+                              Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts, bool count_folds) const {
   constexpr int N = D + 1;
   refresh_blocks();
-  const CellKernel kernel{blocks_.data(), 3 * N * N * N, local_to_world_jac_, out_pos, out_nrm};
+  const CellKernel kernel{blocks_.data(), 3 * N * N * N, local_to_world_jac_, out_pos, out_nrm, count_folds && !out_nrm};
   const Eigen::Matrix3d& inv = box_.inverse_axes();
   const Eigen::Vector3d& origin = box_.origin();
   std::size_t folded = 0, evaluated = 0;
@@ -425,14 +432,14 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
 void BSplineLattice::evaluate_degree(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                      const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                                      const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
-                                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const {
+                                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts, bool count_folds) const {
   switch (degree_) {
     case 1:
-      return evaluate<1>(in_pos, in_nrm, ids, out_pos, out_nrm, counts);
+      return evaluate<1>(in_pos, in_nrm, ids, out_pos, out_nrm, counts, count_folds);
     case 2:
-      return evaluate<2>(in_pos, in_nrm, ids, out_pos, out_nrm, counts);
+      return evaluate<2>(in_pos, in_nrm, ids, out_pos, out_nrm, counts, count_folds);
     default:
-      return evaluate<3>(in_pos, in_nrm, ids, out_pos, out_nrm, counts);
+      return evaluate<3>(in_pos, in_nrm, ids, out_pos, out_nrm, counts, count_folds);
   }
 }
 
@@ -446,8 +453,9 @@ void BSplineLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
 bool BSplineLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                            const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                                            WarpCounts& counts) const {
-  if (!fold_free()) return false;  // apply() counts the folds through the Jacobian
-  evaluate_degree(in_pos, nullptr, ids, out_pos, nullptr, counts);
+  // Where the lattice may fold, the Jacobian's determinant is still evaluated, to count
+  // the folds apply() would count; the normals' cofactor products are not.
+  evaluate_degree(in_pos, nullptr, ids, out_pos, nullptr, counts, !fold_free());
   return true;
 }
 

@@ -40,8 +40,8 @@ public:
              WarpCounts& counts) const override;
   using Lattice::apply;
 
-  /// Positions only when the lattice cannot fold (Lattice::fold_free): apply() evaluates
-  /// zero normals that way too, and counts no fold.
+  /// Positions, and where the lattice may fold (not Lattice::fold_free) the fold count
+  /// from det J, without the normals: apply()'s positions and counts for zero normals.
   bool apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
                              Eigen::Ref<Eigen::Matrix3Xd> out_pos, WarpCounts& counts) const override;
 
@@ -72,16 +72,16 @@ protected:
   void piece_changed(std::size_t piece) override;
 
 private:
-  // in_nrm / out_nrm null: positions only.
+  // in_nrm / out_nrm null: positions only, and with `count_folds` the folds counted too.
   template <int D>
   void evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                 const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, const std::vector<std::uint32_t>& ids,
                 Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
-                WarpCounts& counts) const;
+                WarpCounts& counts, bool count_folds = false) const;
   /// evaluate<D> for the lattice's degree.
   void evaluate_degree(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                        const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
-                       Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const;
+                       Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts, bool count_folds = false) const;
   void compute_block(std::size_t piece) const;
 
   int degree_;
