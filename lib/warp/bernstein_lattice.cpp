@@ -251,7 +251,7 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   // Where no point can fold and no normal is to be carried (a point cloud's, or a run's
   // that needs none: zero), the Jacobian is not needed: positions only.
   const bool no_folds = fold_free();
-  const bool cubic = n[0] == 3 && n[1] == 3 && n[2] == 3;  // PyGeM's and most users' degree
+  const bool cubic = is_cubic();
 #pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t first = static_cast<std::size_t>(b) * L;
@@ -311,7 +311,7 @@ std::size_t BernsteinLattice::positions(const Eigen::Ref<const Eigen::Matrix3Xd>
   const std::vector<double> D = packed_displacements();
   const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + kBlock - 1) / kBlock);
   std::size_t inside = 0;
-  const bool cubic = n[0] == 3 && n[1] == 3 && n[2] == 3;  // PyGeM's and most users' degree
+  const bool cubic = is_cubic();
 #pragma omp parallel for schedule(static) reduction(+ : inside)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t first = static_cast<std::size_t>(b) * kBlock;

@@ -65,6 +65,9 @@ private:
                         Eigen::Ref<Eigen::Matrix3Xd> out_pos) const;
   /// The displacements as [i][j][k][x, y, z], the kernels' order.
   std::vector<double> packed_displacements() const;
+  /// Degree 3 on every axis (PyGeM's and most users' lattices): kernels with the degree
+  /// known when compiled.
+  bool is_cubic() const { return cells_[0] == 3 && cells_[1] == 3 && cells_[2] == 3; }
 };
 
 }  // namespace ffd
