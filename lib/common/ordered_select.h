@@ -23,9 +23,12 @@ void append_selected(std::int64_t n, Keep keep, std::vector<std::uint32_t>& out)
     // Room for the whole range at once (pages nobody writes are never touched): no
     // reallocation copies when nearly every index is kept.
     mine.reserve(static_cast<std::size_t>(n / omp_get_num_threads() + 1));
+    // A private copy: the shared `keep` is reached through a pointer the appends might
+    // alias, so its captures would be reloaded on every index.
+    Keep my_keep = keep;
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < n; ++i)
-      if (keep(i)) mine.push_back(static_cast<std::uint32_t>(i));
+      if (my_keep(i)) mine.push_back(static_cast<std::uint32_t>(i));
   }
   std::size_t first = 0;
   if (out.empty() && !parts.empty()) out = std::move(parts[first++]);  // one thread: no copy
