@@ -382,8 +382,15 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   constexpr int N = D + 1;
   refresh_blocks();
   const CellKernel kernel{blocks_.data(), 3 * N * N * N, local_to_world_jac_, out_pos, out_nrm, count_folds && !out_nrm};
-  const Eigen::Matrix3d& inv = box_.inverse_axes();
-  const Eigen::Vector3d& origin = box_.origin();
+  // Copies, not references, of what the locate loop reads: the chunk's stores could alias
+  // a reference, which would be reloaded for every vertex.
+  const Eigen::Matrix3d inv = box_.inverse_axes();
+  const Eigen::Vector3d origin = box_.origin();
+  const double* const pos = in_pos.data();
+  const Eigen::Index stride = in_pos.outerStride();
+  const std::uint32_t* const id = ids.data();
+  const std::int32_t* const block_of = block_of_.data();
+  const int cells[3] = {cells_[0], cells_[1], cells_[2]};
   std::size_t folded = 0, evaluated = 0;
   const bool no_folds = out_nrm && fold_free();
   constexpr std::ptrdiff_t kChunk = CellChunk::kSize;
@@ -397,19 +404,19 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
 #pragma omp for schedule(static)
     for (std::ptrdiff_t c = 0; c < chunks; ++c) {
       for (std::ptrdiff_t t = c * kChunk; t < std::min(n_ids, (c + 1) * kChunk); ++t) {
-        const std::uint32_t v = ids[t];
-        const Eigen::Vector3d x = in_pos.col(v);
+        const std::uint32_t v = id[t];
+        const Eigen::Vector3d x = Eigen::Map<const Eigen::Vector3d>(pos + v * stride);
         const Eigen::Vector3d u = inv * (x - origin);
         std::int32_t block = -1;
         double local[3];
         if (inside(u)) {
           int cell[3];
           for (int a = 0; a < 3; ++a) {  // Lattice::locate, inlined for the B-spline's cells
-            const double sa = u[a] * cells_[a];
-            cell[a] = std::clamp(static_cast<int>(std::floor(sa)), 0, cells_[a] - 1);
+            const double sa = u[a] * cells[a];
+            cell[a] = std::clamp(static_cast<int>(std::floor(sa)), 0, cells[a] - 1);
             local[a] = sa - cell[a];
           }
-          block = block_of_[(static_cast<std::size_t>(cell[2]) * cells_[1] + cell[1]) * cells_[0] + cell[0]];
+          block = block_of[(static_cast<std::size_t>(cell[2]) * cells[1] + cell[1]) * cells[0] + cell[0]];
         }
         if (block < 0) {  // outside, or no moved point reaches this cell: identity, bit for bit
           out_pos.col(v) = x;
