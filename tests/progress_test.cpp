@@ -111,7 +111,7 @@ TEST(JsonEvent, WritesFieldsInOrderWithJsonNumbers) {
                                .boolean("ok", false)
                                .str();
   EXPECT_EQ(line, R"({"event":"item_end","input":"in/\"odd\".obj","exit":-2,"ms":12.35,"nan":null,"zero":0,"ok":false})");
-  EXPECT_NO_THROW(static_cast<void>(json::parse(line)));
+  EXPECT_TRUE(json::parse(line).is_object());
 }
 
 // A step's reports, out of order and out of range on purpose.
