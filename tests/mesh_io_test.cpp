@@ -33,6 +33,7 @@
 #include "mesh/obj_source.h"
 #include "mesh/off_io.h"
 #include "mesh/ply_io.h"
+#include "mesh/text_lines.h"
 #include "script/runner.h"
 #include "test_meshes.h"
 #include "warp/bspline_lattice.h"
@@ -224,6 +225,40 @@ ObjModel random_obj(int n, std::uint64_t seed) {
   }
   m.text = os.str();
   return m;
+}
+
+TEST(NewlineFinder, FindsWhatFindFinds) {
+  // Texts of every length to 80 around the finder's 16-byte blocks, sparse to dense in
+  // '\n', with CRLF and NUL bytes; every start position, as LineScanner's calls go forward.
+  std::mt19937 rng(11);
+  for (std::size_t size = 0; size <= 80; ++size)
+    for (const int per_hundred : {0, 3, 30, 90}) {
+      std::string text(size, 'x');
+      for (char& c : text) {
+        const int roll = static_cast<int>(rng() % 100);
+        c = roll < per_hundred ? '\n' : roll == 99 ? '\0' : roll == 98 ? '\r' : 'v';
+      }
+      const std::string_view view(text);
+      for (std::size_t from = 0; from <= size + 1; ++from) {
+        NewlineFinder finder(view);
+        for (std::size_t at = from; at <= size + 1; at += 1 + at % 7) {
+          const std::size_t expected = std::min(view.find('\n', at), size);
+          ASSERT_EQ(finder.next(at), expected) << "size " << size << ", from " << at;
+        }
+      }
+      LineScanner lines(view);
+      std::string_view line;
+      std::size_t count = 0, pos = 0;
+      while (lines.next(line)) {
+        const std::size_t end = std::min(view.find('\n', pos), size);
+        std::string_view expected = view.substr(pos, end - pos);
+        if (!expected.empty() && expected.back() == '\r') expected.remove_suffix(1);
+        ASSERT_EQ(line, expected);
+        pos = end + 1;
+        EXPECT_EQ(lines.number(), ++count);
+      }
+      EXPECT_GE(pos, size);
+    }
 }
 
 TEST(FileBytes, ReleasedPagesReadBackTheSameBytes) {

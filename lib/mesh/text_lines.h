@@ -3,24 +3,66 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "common/errors.h"
 #include "common/numbers.h"
 
 namespace ffd {
 
+/// The '\n' of a text one after another, for positions that never go back. With SSE2
+/// (every x86-64) it tests sixteen bytes at once into a bit mask and keeps the mask, so a
+/// short line costs a few instructions: a mesh file's lines are 20-50 bytes, where a
+/// memchr call per line cost more (a 1M-vertex OBJ's 4M lines: 26 ms against 44 for a
+/// pass over them). Elsewhere, and for the last 15 bytes, memchr.
+class NewlineFinder {
+public:
+  explicit NewlineFinder(std::string_view text) : text_(text) {}
+  /// The position of the first '\n' at or after `from` (not less than any earlier call's
+  /// `from`), or the text's size when there is none.
+  std::size_t next(std::size_t from) {
+    const std::size_t size = text_.size();
+#ifdef __SSE2__
+    for (;;) {
+      if (scanned_ && from >= block_ && from < block_ + 16) {  // in the block in hand
+        const unsigned left = mask_ & (~0u << (from - block_));
+        if (left != 0) return block_ + static_cast<std::size_t>(__builtin_ctz(left));
+        from = block_ + 16;
+      }
+      if (from + 16 > size) break;
+      const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(text_.data() + from));
+      mask_ = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(bytes, _mm_set1_epi8('\n'))));
+      block_ = from;
+      scanned_ = true;
+    }
+#endif
+    if (from >= size) return size;
+    const void* hit = std::memchr(text_.data() + from, '\n', size - from);
+    return hit ? static_cast<std::size_t>(static_cast<const char*>(hit) - text_.data()) : size;
+  }
+
+private:
+  std::string_view text_;
+  std::size_t block_ = 0;  // once scanned_: bytes [block_, block_ + 16) gave mask_
+  unsigned mask_ = 0;
+  bool scanned_ = false;
+};
+
 /// Walks `text` line by line (LF or CRLF), counting lines from 1.
 class LineScanner {
 public:
-  explicit LineScanner(std::string_view text) : text_(text) {}
+  explicit LineScanner(std::string_view text) : text_(text), newlines_(text) {}
   /// Moves to the next line; false at the end of the text.
   bool next(std::string_view& line) {
     if (pos_ >= text_.size()) return false;
-    std::size_t end = text_.find('\n', pos_);
-    if (end == std::string_view::npos) end = text_.size();
+    const std::size_t end = newlines_.next(pos_);
     line = text_.substr(pos_, end - pos_);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     pos_ = end + 1;
@@ -31,6 +73,7 @@ public:
 
 private:
   std::string_view text_;
+  NewlineFinder newlines_;
   std::size_t pos_ = 0;
   std::size_t number_ = 0;
 };
