@@ -185,16 +185,16 @@ void Lattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   // references, so the scan keeps them in registers (with append_selected's private copy,
   // a million points took about 5 ms less).
   const bool all = std::all_of(changed_piece_.begin(), changed_piece_.end(), [](std::uint8_t c) { return c != 0; });
-  const double* pos = in_pos.data();
-  const Eigen::Index stride = in_pos.outerStride();
+  const auto box_coordinates = [pos = in_pos.data(), stride = in_pos.outerStride(), inv, o](Eigen::Index v) {
+    return Eigen::Vector3d(inv * (Eigen::Map<const Eigen::Vector3d>(pos + v * stride) - o));
+  };
   if (all) {
-    append_selected(in_pos.cols(), [pos, stride, inv, o](Eigen::Index v) {
-      return inside(inv * (Eigen::Map<const Eigen::Vector3d>(pos + v * stride) - o));
-    }, ids);  // in parallel, in order
+    append_selected(in_pos.cols(), [box_coordinates](Eigen::Index v) { return inside(box_coordinates(v)); },
+                    ids);  // in parallel, in order
     return;
   }
   const auto changed = [&](Eigen::Index v) {
-    const Eigen::Vector3d u = inv * (Eigen::Map<const Eigen::Vector3d>(pos + v * stride) - o);
+    const Eigen::Vector3d u = box_coordinates(v);
     if (!inside(u)) return false;
     Index3 p;
     double local;
