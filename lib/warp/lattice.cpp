@@ -94,10 +94,14 @@ bool Lattice::boundary_moved() const {
   return false;
 }
 
+/// The piece, of n along an axis, that holds s = u * n for box coordinate u (the end
+/// pieces hold what lies outside within the tolerance).
+static int piece_at(double s, int n) { return std::clamp(static_cast<int>(std::floor(s)), 0, n - 1); }
+
 void Lattice::locate(int axis, double u, int& piece, double& local) const {
   const int n = pieces()[axis];
   const double s = u * n;
-  piece = std::clamp(static_cast<int>(std::floor(s)), 0, n - 1);
+  piece = piece_at(s, n);
   local = s - piece;
 }
 
@@ -193,13 +197,18 @@ void Lattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                     ids);  // in parallel, in order
     return;
   }
-  const auto changed = [&](Eigen::Index v) {
+  // The pieces as locate() finds them, flat as flat_piece() numbers them; the piece counts
+  // are read once (pieces() is virtual: four calls a point took 11 of the 1M cloud's
+  // 50 ms move step).
+  const Index3 n = pieces();
+  const std::uint8_t* const piece_changed = changed_piece_.data();
+  const auto changed = [box_coordinates, n, piece_changed](Eigen::Index v) {
     const Eigen::Vector3d u = box_coordinates(v);
     if (!inside(u)) return false;
-    Index3 p;
-    double local;
-    for (int a = 0; a < 3; ++a) locate(a, u[a], p[a], local);
-    return changed_piece_[flat_piece(p)] != 0;
+    const std::size_t flat =
+        (static_cast<std::size_t>(piece_at(u[2] * n[2], n[2])) * n[1] + piece_at(u[1] * n[1], n[1])) * n[0] +
+        piece_at(u[0] * n[0], n[0]);
+    return piece_changed[flat] != 0;
   };
   append_selected(in_pos.cols(), changed, ids);  // in parallel, in order
 }
