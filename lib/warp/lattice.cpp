@@ -198,8 +198,8 @@ void Lattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
     return;
   }
   // The pieces as locate() finds them, flat as flat_piece() numbers them; the piece counts
-  // are read once (pieces() is virtual: four calls a point took 11 of the 1M cloud's
-  // 50 ms move step).
+  // are read once (pieces() is virtual: four calls a point cost about 3 ms of the 38 ms
+  // step moving one point of an 8^3-cell lattice on a 1M cloud).
   const Index3 n = pieces();
   const std::uint8_t* const piece_changed = changed_piece_.data();
   const auto changed = [box_coordinates, n, piece_changed](Eigen::Index v) {
