@@ -282,6 +282,39 @@ TEST(OctreeLattice, LocalSubdivisionAgreesWithSubdividingTheWholeLevel) {
   }
 }
 
+TEST(OctreeLattice, ASmallLevelsMovesAreTheWholeStepMatricesProducts) {
+  // A small level multiplies again only the rows of its step matrices that read a changed
+  // value, building each row the first time a move reaches it. After moves of scattered
+  // points, one point twice and several at once, every C^k(delta) is still the whole
+  // matrices' product S_k ... S_1 delta (to rounding: the product here is this file's).
+  BunnyLattice b;
+  OctreeOptions o = options(3, 2);
+  o.whole_level_cells = 1u << 30;
+  OctreeLattice lattice(b.box, b.x, o);
+  const int l = 3;
+  const GridComplex& g = lattice.complex(l);
+  const std::size_t n = g.num_points();
+  move_one(lattice, l, g.points[n / 4], Eigen::Vector3d(0.01, 0.0, 0.015));
+  move_one(lattice, l, g.points[3 * n / 4], Eigen::Vector3d(-0.02, 0.01, 0.0));
+  move_one(lattice, l, g.points[n / 4], Eigen::Vector3d(0.0, -0.005, 0.01));
+  const Eigen::Matrix3Xd shown = lattice.points(l);
+  std::vector<std::int32_t> ids;
+  std::vector<Eigen::Vector3d> targets;
+  for (std::size_t p = n / 2; p < n / 2 + 5; ++p)
+    ids.push_back(static_cast<std::int32_t>(p)), targets.push_back(shown.col(static_cast<Eigen::Index>(p)) + Eigen::Vector3d(0.003, 0.004, -0.002));
+  lattice.move_level_points(l, ids, targets);
+  Eigen::MatrixXd expected = lattice.points(l) - lattice.rest_points(l);  // only this level moved
+  for (int k = 1; k <= 2; ++k) {
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> S =
+        subdivision_matrix(lattice.subdivided(l, k - 1), lattice.subdivided(l, k).points, SubdivisionRule::CatmullClark);
+    expected = (S * expected.transpose()).transpose();
+    const Eigen::Matrix3Xd moves = lattice.subdivided_moves(l, k);
+    ASSERT_EQ(moves.cols(), expected.cols());
+    EXPECT_GT(moves.cwiseAbs().maxCoeff(), 0.01) << "C^" << k;
+    EXPECT_LE((moves - expected).cwiseAbs().maxCoeff(), 1e-16) << "C^" << k;
+  }
+}
+
 TEST(OctreeLattice, TheRestLatticeSubdividedOnDemandIsTheWholeLevelsBitForBit) {
   // A large level subdivides its rest lattice only in the cells a move marks (and where
   // a location walks to); the positions there are the whole level's subdivision exactly,

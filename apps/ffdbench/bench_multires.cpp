@@ -365,8 +365,9 @@ void print_moves(const json& moves) {
 }  // namespace
 
 /// The small-level threshold (OctreeOptions::whole_level_cells): median ms of
-/// move_level_points at levels 2..5 of `mesh` when every level keeps its steps as matrices and
-/// when every move re-subdivides N_{S,3}, and the memory each way adds to the lattice.
+/// move_level_points at levels 2..5 of `mesh` when every level moves by its steps' matrices
+/// (rows built where moves reach) and when every move re-subdivides N_{S,3}, and the memory
+/// each way adds to the lattice.
 json threshold_rows(const Mesh& mesh, const char* name, std::size_t count) {
   const Eigen::Matrix3Xd x = mesh.positions();
   const Parallelepiped box = fit_principal_box(x, {}, 0.02);
@@ -391,7 +392,7 @@ json threshold_rows(const Mesh& mesh, const char* name, std::size_t count) {
         lattice.clear_changes();
       }
       rows.push_back({{"mesh", name},
-                      {"case", matrices ? "whole level by matrices" : "N_{S,3} by stencils"},
+                      {"case", matrices ? "by the step matrices' rows" : "N_{S,3} by stencils"},
                       {"level", level},
                       {"level_cells", lattice.num_cells(level)},
                       {"move_points_ms", median(ms)},

@@ -2,6 +2,7 @@
 #include "multires/octree_lattice.h"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <stdexcept>
 
@@ -190,17 +191,18 @@ void OctreeLattice::ensure_subdivided(int l) const {
   Level& level = levels_[l];
   if (level.stepped) return;
   level.stepped = true;
-  // A small level is subdivided whole, topology, positions and step matrices; a large one
-  // builds no topology (StepGrid implies it) and gets its rest positions cell by cell
-  // (ensure_rest), into fields over its slots that no step touches until it needs them.
+  // A small level is subdivided whole, topology and positions, and its step matrices
+  // are built row by row where moves reach (update_by_rows); a large one builds no
+  // topology (StepGrid implies it) and gets its rest positions cell by cell (ensure_rest),
+  // into fields over its slots that no step touches until it needs them.
   const bool whole = level.sub[0].num_cells() <= options_.whole_level_cells;
   for (int k = 1; k <= options_.cc_steps; ++k) {
     if (whole) {
       level.sub.push_back(refine(level.sub[static_cast<std::size_t>(k - 1)]));
-      level.steps.emplace_back();
-      level.fine.push_back(subdivide_field_and_matrix(level.sub[static_cast<std::size_t>(k - 1)], level.sub.back(),
-                                                      level.fine.back(), SubdivisionRule::CatmullClark,
-                                                      level.steps.back()));
+      level.fine.push_back(subdivide_field(level.sub[static_cast<std::size_t>(k - 1)], level.sub.back(),
+                                           level.fine.back(), SubdivisionRule::CatmullClark));
+      level.rows.emplace_back();
+      level.row_of.emplace_back(level.sub.back().num_points());
     } else {
       const std::size_t slots = level.step_grid(k).num_points();
       level.fine.emplace_back(3, static_cast<Eigen::Index>(slots));  // written by ensure_rest, slot by slot
@@ -294,13 +296,13 @@ void OctreeLattice::update_displacements(int l, const std::vector<std::int32_t>&
                                          OctreeMove& report) {
   Level& level = levels_[l];
   const GridComplex& g = level.sub[0];
-  level.disp[0].map() = level.delta;
-  if (!level.steps.empty()) {  // a small level: its steps are matrices
-    for (int k = 1; k <= options_.cc_steps; ++k)
-      level.disp[k].map() = (level.steps[k - 1] * level.disp[k - 1].map().transpose()).transpose();
-    report.cells_subdivided = g.num_cells();
+  if (!level.rows.empty()) {  // a small level: its steps are matrices
+    update_by_rows(l, ids);
+    const std::vector<std::uint8_t> patch = cells_near(g, ids, 3, 2);  // where the rows lie
+    report.cells_subdivided = static_cast<std::size_t>(std::count(patch.begin(), patch.end(), 1));
     return;
   }
+  level.disp[0].map() = level.delta;
   // The paper subdivides N_{S,4}. The moves' image after any number of steps lies in the
   // cells of N_{S,2} (the limit's support: a B-spline's 4^3 cells); one more ring holds
   // every element the rules read there, so N_{S,3} gives the whole level's subdivision
@@ -326,6 +328,82 @@ void OctreeLattice::update_displacements(int l, const std::vector<std::int32_t>&
     local = std::move(finer);
   }
   report.cells_subdivided = patch_cells;
+}
+
+/// The slots of C^k (fine) whose subdivision stencils read one of the slots `changed` of
+/// C^(k-1) (coarse). A stencil reads the corners of coarse cells at the new point's node /
+/// 2 and one step below it on each axis, so coarse nodes within 1 of node / 2 on every axis
+/// (the 27 nodes volume_subdivision.cpp's StencilBuilder looks up; no grid rule reads
+/// beyond them).
+static std::vector<std::int32_t> slots_reading(const StepGrid& coarse, const StepGrid& fine,
+                                               const std::vector<std::int32_t>& changed) {
+  constexpr int kReach = 1;
+  std::vector<std::int32_t> out;
+  if (changed.empty()) return out;
+  GridIndex lo = coarse.node(changed[0]), hi = lo;
+  for (const std::int32_t p : changed) {
+    const GridIndex n = coarse.node(p);
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], n[a] - kReach), hi[a] = std::max(hi[a], n[a] + kReach);
+  }
+  const long long nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
+  std::vector<std::uint8_t> reach(static_cast<std::size_t>(nx * ny * nz), 0);
+  for (const std::int32_t p : changed) {
+    const GridIndex n = coarse.node(p);
+    for (long long z = n[2] - kReach - lo[2]; z <= n[2] + kReach - lo[2]; ++z)
+      for (long long y = n[1] - kReach - lo[1]; y <= n[1] + kReach - lo[1]; ++y)
+        for (long long x = n[0] - kReach - lo[0]; x <= n[0] + kReach - lo[0]; ++x)
+          reach[static_cast<std::size_t>((z * ny + y) * nx + x)] = 1;
+  }
+  const int res = fine.resolution();
+  const auto is_corner = [&](int i, int j, int z) {  // of some cell of C^k
+    for (int c = 0; c < 8; ++c)
+      if (fine.has_cell(i - (c & 1), j - ((c >> 1) & 1), z - ((c >> 2) & 1))) return true;
+    return false;
+  };
+  for (int z = std::max(0, 2 * lo[2]); z <= std::min(res, 2 * hi[2] + 1); ++z)
+    for (int y = std::max(0, 2 * lo[1]); y <= std::min(res, 2 * hi[1] + 1); ++y)
+      for (int x = std::max(0, 2 * lo[0]); x <= std::min(res, 2 * hi[0] + 1); ++x) {
+        const long long i = (x >> 1) - lo[0], j = (y >> 1) - lo[1], k = (z >> 1) - lo[2];
+        if (reach[static_cast<std::size_t>((k * ny + j) * nx + i)] && is_corner(x, y, z)) out.push_back(fine.point({x, y, z}));
+      }
+  return out;
+}
+
+void OctreeLattice::update_by_rows(int l, const std::vector<std::int32_t>& ids) {
+  // disp[k] = S_k disp[k-1] for every k, as a product of the whole matrices: a row whose
+  // inputs did not change keeps its value, so only the rows reading a changed value are
+  // multiplied again, by the same Eigen product (each row sums its terms in its column
+  // order, whatever rows come with it), and only values that changed propagate.
+  Level& level = levels_[l];
+  std::vector<std::int32_t> changed;
+  Eigen::Map<Eigen::Matrix3Xd> first = level.disp[0].map();
+  for (const std::int32_t p : ids) {
+    if (std::memcmp(first.col(p).data(), level.delta.col(p).data(), 3 * sizeof(double)) == 0) continue;
+    first.col(p) = level.delta.col(p);
+    changed.push_back(p);
+  }
+  for (int k = 1; k <= options_.cc_steps && !changed.empty(); ++k) {
+    const StepGrid coarse = level.step_grid(k - 1), fine = level.step_grid(k);
+    const std::vector<std::int32_t> slots = slots_reading(coarse, fine, changed);
+    SubdivisionRows& rows = level.rows[static_cast<std::size_t>(k - 1)];
+    ZeroedArray<std::int32_t>& row_of = level.row_of[static_cast<std::size_t>(k - 1)];
+    std::vector<std::int32_t> listed(slots.size());
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      std::int32_t& row = row_of[static_cast<std::size_t>(slots[i])];
+      if (row == 0) row = 1 + rows.append(coarse, fine.node(slots[i]), SubdivisionRule::CatmullClark);
+      listed[i] = row - 1;
+    }
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> S = rows.matrix(listed, level.disp[k - 1].cols);
+    const Eigen::Matrix3Xd values = (S * level.disp[k - 1].map().transpose()).transpose();
+    Eigen::Map<Eigen::Matrix3Xd> disp = level.disp[k].map();
+    changed.clear();
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      const auto now = values.col(static_cast<Eigen::Index>(i));
+      if (std::memcmp(disp.col(slots[i]).data(), now.data(), 3 * sizeof(double)) == 0) continue;
+      disp.col(slots[i]) = now;
+      changed.push_back(slots[i]);
+    }
+  }
 }
 
 void OctreeLattice::mark_changed(int l, const std::vector<std::int32_t>& ids, OctreeMove& report) {
@@ -429,7 +507,8 @@ std::size_t OctreeLattice::bytes() const {
     for (const GridComplex& g : level.sub) total += g.bytes();
     for (const Eigen::Matrix3Xd& m : level.fine) total += static_cast<std::size_t>(m.size()) * sizeof(double);
     for (const Field& m : level.disp) total += m.values.size() * sizeof(double);
-    for (const auto& S : level.steps) total += static_cast<std::size_t>(S.nonZeros()) * (sizeof(double) + sizeof(int));
+    for (const SubdivisionRows& rows : level.rows) total += rows.bytes();
+    for (const auto& index : level.row_of) total += index.size() * sizeof(std::int32_t);
     for (const auto& flags : level.written) total += flags.size();
     if (level.ready) total += static_cast<std::size_t>(level.marks.changed.size());  // one flag per grid cell
     total += static_cast<std::size_t>(level.rest.size() + level.delta.size()) * sizeof(double) +
@@ -462,6 +541,17 @@ const Eigen::Matrix3Xd& OctreeLattice::subdivided_rest(int l, int k) const {
   for (std::size_t p = 0; p < g.num_points(); ++p)
     seen.rest.col(static_cast<Eigen::Index>(p)) = level.fine[static_cast<std::size_t>(k)].col(grid.point(g.points[p]));
   return seen.rest;
+}
+
+Eigen::Matrix3Xd OctreeLattice::subdivided_moves(int l, int k) const {
+  ensure_subdivided(l);
+  const GridComplex& g = subdivided(l, k);
+  const Level& level = levels_[l];
+  const StepGrid grid = level.step_grid(k);
+  const auto disp = level.disp[static_cast<std::size_t>(k)].map();
+  Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(g.num_points()));
+  for (std::size_t p = 0; p < g.num_points(); ++p) out.col(static_cast<Eigen::Index>(p)) = disp.col(grid.point(g.points[p]));
+  return out;
 }
 
 }  // namespace ffd

@@ -23,8 +23,9 @@
 // F_{l+1}(x) = F_l(x) + [G(x; O(L_l') + delta) - G(x; O(L_l'))], and G is linear.
 //
 // Locality (section 3.2): moving points S at level l re-subdivides only the cells of
-// N_{S,3}, which is exact (the paper takes N_{S,4}; see update_displacements), or the
-// whole level when it is small, and marks the cells of N_{S,3}:
+// N_{S,3}, which is exact (the paper takes N_{S,4}; see update_displacements), or, on a
+// small level, multiplies again the rows of the steps' matrices that read what changed,
+// and marks the cells of N_{S,3}:
 // changed_points() reports only the vertices there; every other vertex is untouched.
 // Points outside every cell of every moved level are never changed, bit for bit. The rest
 // lattice's subdivisions C^k(R_l) are local too: a large level builds no C^k topology
@@ -51,6 +52,7 @@
 #include "multires/grid_complex.h"
 #include "multires/step_grid.h"
 #include "multires/subdivided_level.h"
+#include "multires/volume_subdivision.h"
 #include "warp/deformer.h"
 #include "warp/parallelepiped.h"
 
@@ -60,11 +62,14 @@ struct OctreeOptions {
   int levels = 3;        // octree subdivisions of the box
   int cc_steps = 2;      // Catmull-Clark volume subdivisions n
   double shrink = -1;    // offset of shrunk boundary points from the region; < 0: no shrink
-  /// Levels with at most this many cells keep their Catmull-Clark steps as matrices and
-  /// are subdivided whole on a move, not by N_{S,3}. Measured on refined_elephant, one
-  /// thread: a move at 175 cells takes 0.34 ms by matrices against 2.3 by N_{S,3}, at 751
-  /// cells 1.5 against 3.1, at 2,994 cells 7.1 against 2.4; the matrices double the level's
-  /// memory (16 MB against 7 at 751 cells). 512 keeps them where they cost under ~10 MB.
+  /// Levels with at most this many cells move by their Catmull-Clark steps' matrices,
+  /// C^k(delta) = S_k C^(k-1)(delta), each row summed as the whole matrix's product sums
+  /// it; the rows are built where moves reach and kept, so a later move near the same
+  /// points only multiplies. Larger levels subdivide each move's change over N_{S,3} and
+  /// add it (equal to rounding). When the whole matrices were built on a level's first
+  /// move, measured on refined_elephant, one thread: a move at 175 cells took 0.34 ms by
+  /// matrices against 2.3 by N_{S,3}, at 751 cells 1.5 against 3.1, at 2,994 cells 7.1
+  /// against 2.4. 512 keeps the outputs of the levels that moved by matrices then.
   std::size_t whole_level_cells = 512;
 };
 
@@ -179,6 +184,9 @@ public:
   /// call, for inspection (tests, benchmarks), and kept beside the lattice's own data.
   const GridComplex& subdivided(int level, int k) const;
   const Eigen::Matrix3Xd& subdivided_rest(int level, int k) const;
+  /// C^k(delta), the k-th subdivision of the grid level's own moves, on the points of
+  /// subdivided(level, k), for inspection (tests).
+  Eigen::Matrix3Xd subdivided_moves(int level, int k) const;
 
 private:
   /// A level's marks over the cells of its grid (a local level: of its node grid), dense:
@@ -221,7 +229,10 @@ private:
     std::unique_ptr<std::atomic<std::uint8_t>[]> ready;
     std::vector<ZeroedArray<std::uint8_t>> written;
     std::vector<Field> disp;               // disp[k] = C^k(delta_l)
-    std::vector<Eigen::SparseMatrix<double, Eigen::RowMajor>> steps;  // small levels: C as matrices
+    // Small levels: per step k >= 1, the rows of the step's matrix S_k built so far, and
+    // per point of C^k, 1 + its row there (0: not built yet). Empty: a large level.
+    std::vector<SubdivisionRows> rows;
+    std::vector<ZeroedArray<std::int32_t>> row_of;
     Eigen::Matrix3Xd rest, delta;
     Marks marks;
     std::size_t cut = 0;
@@ -247,6 +258,9 @@ private:
   bool rest_ready(int level, const GridIndex& cell) const;
   void update_displacements(int level, const std::vector<std::int32_t>& ids, const Eigen::Matrix3Xd& change,
                             OctreeMove& report);
+  /// A small level's update: the rows of S_k that read a point whose C^(k-1)(delta)
+  /// changed, multiplied again, step by step from the moved points `ids`.
+  void update_by_rows(int level, const std::vector<std::int32_t>& ids);
   void mark_changed(int level, const std::vector<std::int32_t>& ids, OctreeMove& report);
   Eigen::Vector3d displacement(int level, const Location& where, Eigen::Matrix3d* jacobian) const;
   /// F(x) - x summed over the moved levels, and whether x lies in a cell where some

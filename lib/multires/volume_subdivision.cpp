@@ -3,7 +3,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <functional>
 #include <iterator>
+#include <tuple>
 
 namespace ffd {
 namespace {
@@ -273,6 +275,44 @@ Eigen::MatrixXd subdivide_sparse_field(const GridComplex& coarse, const GridComp
 
 namespace {
 
+/// Appends the row of `stencil` with its weights merged per coarse point, summed in the
+/// stencil's order (as setFromTriplets sums duplicates), in the order of the points' nodes.
+/// `near`: each entry's node number near the new point (stencil_of), so merged by number,
+/// in number order. `node_order(a, b)`: whether coarse point a's node comes before b's,
+/// for a stencil reaching beyond the 27 nodes (none of the grid rules do).
+template <class NodeOrder>
+void append_merged(const Stencil& stencil, const std::vector<std::uint8_t>& near, std::vector<std::int32_t>& columns,
+                   std::vector<double>& values, NodeOrder node_order) {
+  if (std::find(near.begin(), near.end(), kFar) != near.end()) {
+    Stencil merged;
+    for (const auto& [p, w] : stencil) {
+      auto at = std::find_if(merged.begin(), merged.end(), [p = p](const auto& e) { return e.first == p; });
+      if (at == merged.end())
+        merged.push_back({p, w});
+      else
+        at->second += w;
+    }
+    std::sort(merged.begin(), merged.end(), [&](const auto& a, const auto& b) { return node_order(a.first, b.first); });
+    for (const auto& [p, w] : merged) columns.push_back(p), values.push_back(w);
+    return;
+  }
+  std::uint32_t seen = 0;
+  double sum[27];
+  std::int32_t id[27];
+  for (std::size_t i = 0; i < stencil.size(); ++i) {
+    const std::uint8_t n = near[i];
+    if (seen >> n & 1) {
+      sum[n] += stencil[i].second;
+    } else {
+      seen |= 1u << n;
+      sum[n] = stencil[i].second;
+      id[n] = stencil[i].first;
+    }
+  }
+  for (int n = 0; n < 27; ++n)
+    if (seen >> n & 1) columns.push_back(id[n]), values.push_back(sum[n]);
+}
+
 /// A row-major sparse matrix built a row at a time, in row order.
 struct CsrRows {
   std::vector<int> starts{0}, columns;
@@ -285,46 +325,12 @@ struct CsrRows {
     columns.reserve(27 * rows);
     values.reserve(27 * rows);
   }
-  /// Appends the row of `stencil` (over a GridComplex) with its weights merged per coarse
-  /// point, summed in the stencil's order (as setFromTriplets sums duplicates), columns
-  /// ascending. `near`: each entry's node number near the new point (stencil_of): merged
-  /// by number, in number order, which is the coarse points' order (a GridComplex numbers
-  /// its points by (k, j, i)).
+  /// Appends the row of `stencil` over a GridComplex (append_merged), whose points are
+  /// numbered in node order: columns ascending.
   void append(const Stencil& stencil, const std::vector<std::uint8_t>& near) {
-    if (std::find(near.begin(), near.end(), kFar) != near.end()) return append_far(stencil);
-    std::uint32_t seen = 0;
-    for (std::size_t i = 0; i < stencil.size(); ++i) {
-      const std::uint8_t n = near[i];
-      if (seen >> n & 1) {
-        sum[n] += stencil[i].second;
-      } else {
-        seen |= 1u << n;
-        sum[n] = stencil[i].second;
-        id[n] = stencil[i].first;
-      }
-    }
-    for (int n = 0; n < 27; ++n)
-      if (seen >> n & 1) columns.push_back(id[n]), values.push_back(sum[n]);
+    append_merged(stencil, near, columns, values, std::less<std::int32_t>());
     starts.push_back(static_cast<int>(columns.size()));
   }
-
-private:
-  /// The same for a stencil reaching beyond the 27 nodes (none of the grid rules do).
-  void append_far(const Stencil& stencil) {
-    Stencil merged;
-    for (const auto& [p, w] : stencil) {
-      auto at = std::find_if(merged.begin(), merged.end(), [p = p](const auto& e) { return e.first == p; });
-      if (at == merged.end())
-        merged.push_back({p, w});
-      else
-        at->second += w;
-    }
-    std::sort(merged.begin(), merged.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& [p, w] : merged) columns.push_back(p), values.push_back(w);
-    starts.push_back(static_cast<int>(columns.size()));
-  }
-  double sum[27];
-  std::int32_t id[27];
 };
 
 /// The matrix of rows made in parts, each part's rows following the previous part's.
@@ -383,6 +389,40 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision_matrix(const GridComple
     rows[0].append(stencil, near);
   }
   return csr_matrix(rows, static_cast<Eigen::Index>(nodes.size()), static_cast<Eigen::Index>(coarse.num_points()));
+}
+
+std::int32_t SubdivisionRows::append(const StepGrid& coarse, const GridIndex& node, SubdivisionRule rule) {
+  stencil_of(coarse, node, rule, stencil_, &near_);
+  const auto node_order = [&](std::int32_t a, std::int32_t b) {
+    const GridIndex na = coarse.node(a), nb = coarse.node(b);
+    return std::make_tuple(na[2], na[1], na[0]) < std::make_tuple(nb[2], nb[1], nb[0]);
+  };
+  append_merged(stencil_, near_, columns_, values_, node_order);
+  starts_.push_back(static_cast<int>(columns_.size()));
+  return static_cast<std::int32_t>(starts_.size() - 2);
+}
+
+Eigen::SparseMatrix<double, Eigen::RowMajor> SubdivisionRows::matrix(const std::vector<std::int32_t>& rows,
+                                                                     Eigen::Index cols) const {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> S(static_cast<Eigen::Index>(rows.size()), cols);
+  std::size_t nonzeros = 0;
+  for (const std::int32_t r : rows) nonzeros += static_cast<std::size_t>(starts_[r + 1] - starts_[r]);
+  S.resizeNonZeros(static_cast<Eigen::Index>(nonzeros));
+  int* outer = S.outerIndexPtr();
+  int offset = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const int begin = starts_[rows[i]], end = starts_[rows[i] + 1];
+    outer[i] = offset;
+    std::copy(columns_.begin() + begin, columns_.begin() + end, S.innerIndexPtr() + offset);
+    std::copy(values_.begin() + begin, values_.begin() + end, S.valuePtr() + offset);
+    offset += end - begin;
+  }
+  outer[rows.size()] = offset;
+  return S;
+}
+
+std::size_t SubdivisionRows::bytes() const {
+  return starts_.capacity() * sizeof(int) + columns_.capacity() * sizeof(std::int32_t) + values_.capacity() * sizeof(double);
 }
 
 }  // namespace ffd

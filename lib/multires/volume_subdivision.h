@@ -55,6 +55,30 @@ Eigen::MatrixXd subdivide_sparse_field(const GridComplex& coarse, const GridComp
 Eigen::MatrixXd subdivide_field_and_matrix(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
                                            SubdivisionRule rule, Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix);
 
+/// Rows of the subdivision matrix of a step C^(k-1) -> C^k (columns: the coarse points of
+/// a StepGrid, or its slots when its C^(k-1) is implied), built one at a time where they
+/// are needed. A row is the one subdivision_matrix() makes: a point's weights merged
+/// (summed in the stencil's order) and listed in the order of the points' nodes (k, j, i),
+/// a built complex's column order. So a product of some rows with a field gives each of
+/// them the value the whole matrix's product gives, bit for bit.
+class SubdivisionRows {
+public:
+  /// Appends the row of the new point at `node` (a corner of a child of a cell of
+  /// `coarse`); returns its index.
+  std::int32_t append(const StepGrid& coarse, const GridIndex& node, SubdivisionRule rule);
+  std::size_t size() const { return starts_.size() - 1; }
+  /// The matrix of the listed rows (in that order) over `cols` coarse slots.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> matrix(const std::vector<std::int32_t>& rows, Eigen::Index cols) const;
+  std::size_t bytes() const;
+
+private:
+  std::vector<int> starts_{0};
+  std::vector<std::int32_t> columns_;
+  std::vector<double> values_;
+  Stencil stencil_;
+  std::vector<std::uint8_t> near_;
+};
+
 /// The same map as a matrix, for the new points at `nodes` (rows) from the coarse points
 /// (columns), a point's weights merged: with nodes = fine.points,
 /// subdivide_field(coarse, fine, X, rule) = (S * X^T)^T up to rounding.
