@@ -355,7 +355,10 @@ static std::vector<std::int32_t> slots_reading(const StepGrid& coarse, const Ste
           reach[static_cast<std::size_t>((z * ny + y) * nx + x)] = 1;
   }
   const int res = fine.resolution();
-  const auto is_corner = [&](int i, int j, int z) {  // of some cell of C^k
+  // A node of a built complex has a point only as some cell's corner; an implied C^k's
+  // slots exist for other nodes too.
+  const auto is_corner = [&](int i, int j, int z) {
+    if (fine.built) return true;
     for (int c = 0; c < 8; ++c)
       if (fine.has_cell(i - (c & 1), j - ((c >> 1) & 1), z - ((c >> 2) & 1))) return true;
     return false;
@@ -364,7 +367,9 @@ static std::vector<std::int32_t> slots_reading(const StepGrid& coarse, const Ste
     for (int y = std::max(0, 2 * lo[1]); y <= std::min(res, 2 * hi[1] + 1); ++y)
       for (int x = std::max(0, 2 * lo[0]); x <= std::min(res, 2 * hi[0] + 1); ++x) {
         const long long i = (x >> 1) - lo[0], j = (y >> 1) - lo[1], k = (z >> 1) - lo[2];
-        if (reach[static_cast<std::size_t>((k * ny + j) * nx + i)] && is_corner(x, y, z)) out.push_back(fine.point({x, y, z}));
+        if (!reach[static_cast<std::size_t>((k * ny + j) * nx + i)]) continue;
+        const std::int32_t p = fine.point({x, y, z});
+        if (p >= 0 && is_corner(x, y, z)) out.push_back(p);
       }
   return out;
 }
