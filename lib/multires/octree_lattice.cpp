@@ -330,12 +330,12 @@ void OctreeLattice::update_displacements(int l, const std::vector<std::int32_t>&
   report.cells_subdivided = patch_cells;
 }
 
-/// The slots of C^k (fine) whose subdivision stencils read one of the slots `changed` of
-/// C^(k-1) (coarse). A stencil reads the corners of coarse cells at the new point's node /
-/// 2 and one step below it on each axis, so coarse nodes within 1 of node / 2 on every axis
-/// (the 27 nodes volume_subdivision.cpp's StencilBuilder looks up; no grid rule reads
-/// beyond them).
-static std::vector<std::int32_t> slots_reading(const StepGrid& coarse, const StepGrid& fine,
+/// The points of C^k (fine) whose subdivision stencils read one of the points `changed`
+/// of C^(k-1) (coarse), both built complexes (a small level's). A stencil reads the
+/// corners of coarse cells at the new point's node / 2 and one step below it on each
+/// axis, so coarse nodes within 1 of node / 2 on every axis (the 27 nodes
+/// volume_subdivision.cpp's StencilBuilder looks up; no grid rule reads beyond them).
+static std::vector<std::int32_t> points_reading(const StepGrid& coarse, const StepGrid& fine,
                                                const std::vector<std::int32_t>& changed) {
   constexpr int kReach = 1;
   std::vector<std::int32_t> out;
@@ -355,21 +355,13 @@ static std::vector<std::int32_t> slots_reading(const StepGrid& coarse, const Ste
           reach[static_cast<std::size_t>((z * ny + y) * nx + x)] = 1;
   }
   const int res = fine.resolution();
-  // A node of a built complex has a point only as some cell's corner; an implied C^k's
-  // slots exist for other nodes too.
-  const auto is_corner = [&](int i, int j, int z) {
-    if (fine.built) return true;
-    for (int c = 0; c < 8; ++c)
-      if (fine.has_cell(i - (c & 1), j - ((c >> 1) & 1), z - ((c >> 2) & 1))) return true;
-    return false;
-  };
   for (int z = std::max(0, 2 * lo[2]); z <= std::min(res, 2 * hi[2] + 1); ++z)
     for (int y = std::max(0, 2 * lo[1]); y <= std::min(res, 2 * hi[1] + 1); ++y)
       for (int x = std::max(0, 2 * lo[0]); x <= std::min(res, 2 * hi[0] + 1); ++x) {
         const long long i = (x >> 1) - lo[0], j = (y >> 1) - lo[1], k = (z >> 1) - lo[2];
         if (!reach[static_cast<std::size_t>((k * ny + j) * nx + i)]) continue;
-        const std::int32_t p = fine.point({x, y, z});
-        if (p >= 0 && is_corner(x, y, z)) out.push_back(p);
+        const std::int32_t p = fine.point({x, y, z});  // -1 unless some cell's corner
+        if (p >= 0) out.push_back(p);
       }
   return out;
 }
@@ -389,24 +381,24 @@ void OctreeLattice::update_by_rows(int l, const std::vector<std::int32_t>& ids) 
   }
   for (int k = 1; k <= options_.cc_steps && !changed.empty(); ++k) {
     const StepGrid coarse = level.step_grid(k - 1), fine = level.step_grid(k);
-    const std::vector<std::int32_t> slots = slots_reading(coarse, fine, changed);
+    const std::vector<std::int32_t> points = points_reading(coarse, fine, changed);
     SubdivisionRows& rows = level.rows[static_cast<std::size_t>(k - 1)];
     ZeroedArray<std::int32_t>& row_of = level.row_of[static_cast<std::size_t>(k - 1)];
-    std::vector<std::int32_t> listed(slots.size());
-    for (std::size_t i = 0; i < slots.size(); ++i) {
-      std::int32_t& row = row_of[static_cast<std::size_t>(slots[i])];
-      if (row == 0) row = 1 + rows.append(coarse, fine.node(slots[i]), SubdivisionRule::CatmullClark);
+    std::vector<std::int32_t> listed(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      std::int32_t& row = row_of[static_cast<std::size_t>(points[i])];
+      if (row == 0) row = 1 + rows.append(coarse, fine.node(points[i]), SubdivisionRule::CatmullClark);
       listed[i] = row - 1;
     }
     const Eigen::SparseMatrix<double, Eigen::RowMajor> S = rows.matrix(listed, level.disp[k - 1].cols);
     const Eigen::Matrix3Xd values = (S * level.disp[k - 1].map().transpose()).transpose();
     Eigen::Map<Eigen::Matrix3Xd> disp = level.disp[k].map();
     changed.clear();
-    for (std::size_t i = 0; i < slots.size(); ++i) {
+    for (std::size_t i = 0; i < points.size(); ++i) {
       const auto now = values.col(static_cast<Eigen::Index>(i));
-      if (std::memcmp(disp.col(slots[i]).data(), now.data(), 3 * sizeof(double)) == 0) continue;
-      disp.col(slots[i]) = now;
-      changed.push_back(slots[i]);
+      if (std::memcmp(disp.col(points[i]).data(), now.data(), 3 * sizeof(double)) == 0) continue;
+      disp.col(points[i]) = now;
+      changed.push_back(points[i]);
     }
   }
 }
