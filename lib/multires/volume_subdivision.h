@@ -66,8 +66,7 @@ public:
   /// Appends the row of the new point at `node` (a corner of a child of a cell of
   /// `coarse`); returns its index.
   std::int32_t append(const StepGrid& coarse, const GridIndex& node, SubdivisionRule rule);
-  std::size_t size() const { return starts_.size() - 1; }
-  /// The matrix of the listed rows (in that order) over `cols` coarse slots.
+  /// The matrix of the listed rows (in that order) over `cols` coarse points (or slots).
   Eigen::SparseMatrix<double, Eigen::RowMajor> matrix(const std::vector<std::int32_t>& rows, Eigen::Index cols) const;
   std::size_t bytes() const;
 
