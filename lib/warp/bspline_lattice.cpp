@@ -413,7 +413,7 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
           int cell[3];
           for (int a = 0; a < 3; ++a) {  // Lattice::locate, inlined for the B-spline's cells
             const double sa = u[a] * cells[a];
-            cell[a] = std::clamp(static_cast<int>(std::floor(sa)), 0, cells[a] - 1);
+            cell[a] = piece_at(sa, cells[a]);
             local[a] = sa - cell[a];
           }
           block = block_of[(static_cast<std::size_t>(cell[2]) * cells[1] + cell[1]) * cells[0] + cell[0]];

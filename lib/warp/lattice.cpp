@@ -94,10 +94,6 @@ bool Lattice::boundary_moved() const {
   return false;
 }
 
-/// The piece, of n along an axis, that holds s = u * n for box coordinate u (the end
-/// pieces hold what lies outside within the tolerance).
-static int piece_at(double s, int n) { return std::clamp(static_cast<int>(std::floor(s)), 0, n - 1); }
-
 void Lattice::locate(int axis, double u, int& piece, double& local) const {
   const int n = pieces()[axis];
   const double s = u * n;

@@ -12,7 +12,9 @@
 // - Only movable points may move; which ones is the basis's rule (see subclasses).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -125,6 +127,10 @@ public:
   int order(int axis) const { return degree()[axis] + 1; }
 
 protected:
+  /// The piece, of n along an axis, that holds s = u * n for box coordinate u (the end
+  /// pieces hold what lies outside within the tolerance): locate()'s rule, for the scans
+  /// that inline it.
+  static int piece_at(double s, int n) { return std::clamp(static_cast<int>(std::floor(s)), 0, n - 1); }
   /// Greville abscissa of control index i along `axis`, in box coordinates.
   virtual double node(int axis, int i) const = 0;
   /// Inclusive range of pieces along `axis` that control index i influences.
