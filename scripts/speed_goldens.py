@@ -84,8 +84,8 @@ def jobs(box_min, box_max):
     by = [0.05 * size, 0.08 * size, -0.03 * size]
     near = lambda f: [a + f * (b - a) for a, b in zip(box_min, box_max)]
 
-    def lattice(basis, extra):
-        return [{"op": "lattice", "name": "L", "basis": basis, "box": {"fit": "aabb", "padding": 0.05}, **extra},
+    def lattice(basis, extra, fit="aabb"):
+        return [{"op": "lattice", "name": "L", "basis": basis, "box": {"fit": fit, "padding": 0.05}, **extra},
                 {"op": "move", "lattice": "L", "select": {"near": centre}, "transform": {"translate": by}}]
 
     octree = [{"op": "lattice", "name": "L", "basis": "octree", "box": {"fit": "obb", "padding": 0.02},
@@ -97,6 +97,10 @@ def jobs(box_min, box_max):
             octree.append({"op": "save", "path": "level2.ply"})
     return {
         "bspline": lattice("bspline", {"degree": 3, "cells": [4, 4, 4]}),
+        # A rotated box: box coordinates then mix all three axes, so an evaluation that
+        # orders their products differently gives other bits (an axis-aligned box hides it).
+        "bspline_obb": lattice("bspline", {"degree": 3, "cells": [5, 4, 6]}, "obb")
+        + [{"op": "move", "lattice": "L", "select": {"near": near(0.4)}, "transform": {"translate": by}}],
         "bernstein": lattice("bernstein", {"cells": [3, 3, 3]}),
         "octree": octree,
     }
