@@ -287,6 +287,63 @@ TEST(Lattice, BatchIsBitIdenticalForAnyThreadCount) {
   EXPECT_EQ(n1, n2);
 }
 
+// One move's update both ways on a skewed box, with points inside and around it: what
+// apply_changed() writes and lists is what changed_points() then apply() (or
+// apply_without_normals()) would, bit for bit, at one thread and two; columns it does not
+// list keep what was there.
+void expect_apply_changed_matches(const BSplineLattice& lattice, const Eigen::Matrix3Xd& pts,
+                                  const Eigen::Matrix3Xd& nrm, bool normals) {
+  std::vector<std::uint32_t> listed;
+  lattice.changed_points(pts, listed);
+  const Eigen::Matrix3Xd before = pts.array() + 7.0;  // what an output held before the move
+  Eigen::Matrix3Xd p(before), n(before);
+  WarpCounts counts;
+  if (normals)
+    lattice.apply(pts, nrm, listed, p, n, counts);
+  else
+    ASSERT_TRUE(lattice.apply_without_normals(pts, listed, p, counts));
+  const int threads = omp_get_max_threads();
+  for (int t : {1, 2}) {
+    omp_set_num_threads(t);
+    std::vector<std::uint32_t> found;
+    Eigen::Matrix3Xd pf(before), nf(before);
+    WarpCounts fused;
+    const Eigen::Ref<const Eigen::Matrix3Xd> in_nrm = nrm;
+    Eigen::Ref<Eigen::Matrix3Xd> out_nrm = nf;
+    ASSERT_TRUE(lattice.apply_changed(pts, normals ? &in_nrm : nullptr, found, pf, normals ? &out_nrm : nullptr, fused));
+    EXPECT_EQ(found, listed) << t << " threads";
+    EXPECT_EQ(pf, p) << t << " threads";
+    EXPECT_EQ(nf, n) << t << " threads";
+    EXPECT_EQ(fused.evaluated, counts.evaluated);
+    EXPECT_EQ(fused.folded, counts.folded);
+  }
+  omp_set_num_threads(threads);
+}
+
+TEST(BSplineLattice, ApplyChangedIsChangedPointsThenApply) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> around(-0.2, 1.2);
+  for (const Index3 cells : {Index3{4, 4, 4}, Index3{8, 7, 9}})
+    for (int degree : {1, 2, 3}) {
+      SCOPED_TRACE(testing::Message() << "degree " << degree << ", cells " << cells[0]);
+      BSplineLattice lattice(skewed_box(), cells, degree);
+      Eigen::Matrix3Xd pts(3, 30000);
+      for (Eigen::Index i = 0; i < pts.cols(); ++i)
+        pts.col(i) = lattice.box().to_world(Eigen::Vector3d(around(rng), around(rng), around(rng)));
+      const Eigen::Matrix3Xd nrm = random_unit(pts.cols(), 41);
+      int lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) lattice.movable_span(a, lo[a], hi[a]);
+      // A first move (every cell changed on the 4^3 lattice), then one elsewhere.
+      for (const Index3 ijk : {Index3{lo[0], lo[1], lo[2]}, Index3{hi[0], lo[1], hi[2]}}) {
+        lattice.move_point(ijk, lattice.point(ijk) + Eigen::Vector3d(0.05, -0.08, 0.03));
+        lattice.prepare();
+        expect_apply_changed_matches(lattice, pts, nrm, true);
+        expect_apply_changed_matches(lattice, pts, Eigen::Matrix3Xd::Zero(3, pts.cols()), false);
+        lattice.clear_changes();
+      }
+    }
+}
+
 TEST(BSplineLattice, MovableZonesFollowTheDegree) {
   const Parallelepiped box = skewed_box();
   int lo, hi;

@@ -9,6 +9,15 @@
 
 namespace ffd {
 
+/// Appends the threads' parts to `out` in thread order: with schedule(static), the order
+/// of the ranges they scanned. The first part is moved when `out` is empty (one thread: no
+/// copy).
+inline void append_parts(std::vector<std::vector<std::uint32_t>>& parts, std::vector<std::uint32_t>& out) {
+  std::size_t first = 0;
+  if (out.empty() && !parts.empty()) out = std::move(parts[first++]);
+  for (std::size_t p = first; p < parts.size(); ++p) out.insert(out.end(), parts[p].begin(), parts[p].end());
+}
+
 /// Appends to `out` every i in [0, n) with keep(i), in increasing order. Each thread scans
 /// one contiguous range (schedule static) and its finds are appended in range order, so
 /// the list is the same whatever the thread count.
@@ -30,9 +39,7 @@ void append_selected(std::int64_t n, Keep keep, std::vector<std::uint32_t>& out)
     for (std::int64_t i = 0; i < n; ++i)
       if (my_keep(i)) mine.push_back(static_cast<std::uint32_t>(i));
   }
-  std::size_t first = 0;
-  if (out.empty() && !parts.empty()) out = std::move(parts[first++]);  // one thread: no copy
-  for (std::size_t p = first; p < parts.size(); ++p) out.insert(out.end(), parts[p].begin(), parts[p].end());
+  append_parts(parts, out);
 }
 
 }  // namespace ffd

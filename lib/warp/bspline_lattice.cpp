@@ -6,7 +6,13 @@
 #include <cstring>
 #include <memory>
 
+#include <omp.h>
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#endif
+
 #include "common/errors.h"
+#include "common/ordered_select.h"
 
 namespace ffd {
 
@@ -221,17 +227,28 @@ inline void cofactor_lanes(const v8d Vs[3], const v8d Vt[3], const v8d Vr[3], co
   det = J[0][0] * c0[0] + J[1][0] * c0[1] + J[2][0] * c0[2];
 }
 
+constexpr int kChunkSize = 2048;  // ids located and evaluated together
+
+// Where points lie among a lattice's cells, for the ids [begin, end) of a chunk: the flat
+// cell (-1 outside the box), the local coordinates in it, as Lattice::locate finds them,
+// and the position.
+struct ChunkCells {
+  std::int64_t flat[kChunkSize];
+  double local[3][kChunkSize];
+  double x[3][kChunkSize];
+};
+
 // One chunk of a thread's vertices, sorted by cell so that the eight lanes of a register
 // share their cell's coefficients, in structure-of-arrays form so that a register loads
 // its lanes straight from memory. Cells are numbered in the order they first appear (a
 // small open-addressing table: a chunk of a mesh's vertices spans few cells).
 struct CellChunk {
-  static constexpr int kSize = 2048, kSlots = 1024, kMaxCells = kSlots / 2;
-  // As located, in id order.
+  static constexpr int kSize = kChunkSize, kSlots = 1024, kMaxCells = kSlots / 2;
+  // As located, in id order: the vertex, its cell here and its entry in ChunkCells.
   int count = 0, cells = 0;
   std::uint32_t vertex[kSize];
   std::uint16_t cell_of[kSize];
-  double local[3][kSize];
+  std::uint16_t located[kSize];
   // Sorted by cell (kLanes of padding: a cell's last register reads into the next cell).
   std::int32_t cell_block[kMaxCells];
   int cell_start[kMaxCells + 1];
@@ -248,8 +265,9 @@ struct CellChunk {
   /// no probing, whose unpredictable branches cost more than the rest of a point's locate).
   bool direct = false;
 
-  /// Adds a vertex in `block` at local coordinates `u`; false (nothing added) when full.
-  bool add(std::uint32_t v, std::int32_t block, const double u[3]) {
+  /// Adds a vertex in `block`, located at ChunkCells entry `at`; false (nothing added)
+  /// when full.
+  bool add(std::uint32_t v, std::int32_t block, std::ptrdiff_t at) {
     if (count == kSize) return false;
     int h = direct ? block : static_cast<int>((static_cast<std::uint32_t>(block) * 2654435761u) >> 22);
     if (!direct)
@@ -262,11 +280,11 @@ struct CellChunk {
     }
     vertex[count] = v;
     cell_of[count] = slot_cell[h];
-    for (int a = 0; a < 3; ++a) local[a][count] = u[a];
+    located[count] = static_cast<std::uint16_t>(at);
     ++count;
     return true;
   }
-  void sort(const Eigen::Ref<const Eigen::Matrix3Xd>& pos, const Eigen::Ref<const Eigen::Matrix3Xd>* nrm);
+  void sort(const ChunkCells& where, const Eigen::Ref<const Eigen::Matrix3Xd>* nrm);
   void clear() {
     if (direct)
       for (int c = 0; c < cells; ++c) slot_block[cell_block[c]] = -1;
@@ -276,9 +294,9 @@ struct CellChunk {
   }
 };
 
-// Counting sort of the chunk by cell (stable), gathering each vertex's position and
-// normal beside its local coordinates.
-void CellChunk::sort(const Eigen::Ref<const Eigen::Matrix3Xd>& pos, const Eigen::Ref<const Eigen::Matrix3Xd>* nrm) {
+// Counting sort of the chunk by cell (stable), gathering each vertex's local coordinates,
+// position and normal.
+void CellChunk::sort(const ChunkCells& where, const Eigen::Ref<const Eigen::Matrix3Xd>* nrm) {
   std::fill(cell_start, cell_start + cells + 1, 0);
   for (int i = 0; i < count; ++i) ++cell_start[cell_of[i] + 1];
   for (int c = 0; c < cells; ++c) cell_start[c + 1] += cell_start[c];
@@ -287,10 +305,11 @@ void CellChunk::sort(const Eigen::Ref<const Eigen::Matrix3Xd>& pos, const Eigen:
   for (int i = 0; i < count; ++i) {
     const int at = fill[cell_of[i]]++;
     const std::uint32_t v = vertex[i];
+    const int from = located[i];
     sorted_vertex[at] = v;
     for (int a = 0; a < 3; ++a) {
-      sorted[a][at] = local[a][i];
-      sorted[3 + a][at] = pos(a, v);
+      sorted[a][at] = where.local[a][from];
+      sorted[3 + a][at] = where.x[a][from];
       if (nrm) sorted[6 + a][at] = (*nrm)(a, v);
     }
   }
@@ -354,7 +373,7 @@ void evaluate_lanes(const CellKernel& k, const CellChunk& chunk, int cell, int a
 // a run's that needs none), the Jacobian is not needed: positions only (the same
 // values), normals zero, and no fold to count.
 template <int D>
-void evaluate_chunk(const CellKernel& k, CellChunk& chunk, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+void evaluate_chunk(const CellKernel& k, CellChunk& chunk, const ChunkCells& where,
                     const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, bool no_folds, std::size_t& folded) {
   bool positions_only = false;
   if (k.out_nrm && no_folds) {
@@ -363,7 +382,7 @@ void evaluate_chunk(const CellKernel& k, CellChunk& chunk, const Eigen::Ref<cons
   }
   const CellKernel positions{k.blocks, k.block_size, k.K, k.out_pos, nullptr, false};
   const CellKernel& kernel = positions_only ? positions : k;
-  chunk.sort(in_pos, kernel.out_nrm ? in_nrm : nullptr);
+  chunk.sort(where, kernel.out_nrm ? in_nrm : nullptr);
   for (int cell = 0; cell < chunk.cells; ++cell)
     for (int at = chunk.cell_start[cell]; at < chunk.cell_start[cell + 1]; at += kLanes)
       evaluate_lanes<D>(kernel, chunk, cell, at, std::min(kLanes, chunk.cell_start[cell + 1] - at), folded);
@@ -372,81 +391,197 @@ void evaluate_chunk(const CellKernel& k, CellChunk& chunk, const Eigen::Ref<cons
   chunk.clear();
 }
 
+
+// What locating reads: the box (inverse axes, origin) and the cells per axis.
+struct CellGrid {
+  Eigen::Matrix3d inv;
+  Eigen::Vector3d origin;
+  int cells[3];
+};
+
+// a * b + c as this build's Eigen products compute it: fused (one rounding) where the CPU
+// has FMA, as Eigen's packet multiply-add and the compiler's contraction do; a product
+// and a sum otherwise.
+inline double madd(double a, double b, double c) {
+#ifdef __FMA__
+  return std::fma(a, b, c);
+#else
+  return a * b + c;
+#endif
+}
+
+// Box coordinates, cell and local coordinates of one point from its offset d = x - origin,
+// into out's entry i. The box coordinates are Eigen's inv * (x - origin) written out
+// operation for operation (rows 0 and 1 as its two-lane packet products, row 2 as its
+// scalar one, as gcc and clang compile them), so each value is the one Eigen's product
+// gives; the rest is Lattice::piece_at, whose floor, clamp and subtraction are exact.
+void locate_cell(const CellGrid& grid, std::ptrdiff_t i, ChunkCells& out) {
+  const Eigen::Matrix3d& m = grid.inv;
+  const double d[3] = {out.local[0][i], out.local[1][i], out.local[2][i]};
+  const double u[3] = {madd(m(0, 2), d[2], madd(m(0, 1), d[1], m(0, 0) * d[0])),
+                       madd(m(1, 2), d[2], madd(m(1, 1), d[1], m(1, 0) * d[0])),
+                       madd(m(2, 0), d[0], madd(m(2, 1), d[1], m(2, 2) * d[2]))};
+  if (!Lattice::inside(Eigen::Vector3d(u[0], u[1], u[2]))) {
+    out.flat[i] = -1;
+    return;
+  }
+  int c[3];
+  for (int a = 0; a < 3; ++a) {
+    const double s = u[a] * grid.cells[a];
+    c[a] = std::clamp(static_cast<int>(std::floor(s)), 0, grid.cells[a] - 1);
+    out.local[a][i] = s - c[a];
+  }
+  out.flat[i] = (static_cast<std::int64_t>(c[2]) * grid.cells[1] + c[1]) * grid.cells[0] + c[0];
+}
+
+#if defined(__AVX2__) && defined(__FMA__)
+// locate_cell for four points at a time, from entry i on; returns the first entry it left.
+// The same operations lane by lane: fused multiply-adds round once, as std::fma does;
+// the cell clamp in doubles is the integer clamp's value for every point inside the box.
+std::ptrdiff_t locate_cells_avx2(const CellGrid& grid, std::ptrdiff_t i, std::ptrdiff_t n, ChunkCells& out) {
+  __m256d m[3][3], count[3], last[3];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m[r][c] = _mm256_set1_pd(grid.inv(r, c));
+  for (int a = 0; a < 3; ++a) {
+    count[a] = _mm256_set1_pd(grid.cells[a]);
+    last[a] = _mm256_set1_pd(grid.cells[a] - 1);
+  }
+  const __m256d lo = _mm256_set1_pd(-kBoxTolerance), hi = _mm256_set1_pd(1 + kBoxTolerance), zero = _mm256_setzero_pd();
+  for (; i + 4 <= n; i += 4) {
+    const __m256d d0 = _mm256_loadu_pd(out.local[0] + i), d1 = _mm256_loadu_pd(out.local[1] + i),
+                  d2 = _mm256_loadu_pd(out.local[2] + i);
+    const __m256d u[3] = {
+        _mm256_fmadd_pd(m[0][2], d2, _mm256_fmadd_pd(m[0][1], d1, _mm256_mul_pd(m[0][0], d0))),
+        _mm256_fmadd_pd(m[1][2], d2, _mm256_fmadd_pd(m[1][1], d1, _mm256_mul_pd(m[1][0], d0))),
+        _mm256_fmadd_pd(m[2][0], d0, _mm256_fmadd_pd(m[2][1], d1, _mm256_mul_pd(m[2][2], d2)))};
+    __m256d in = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+    for (int a = 0; a < 3; ++a)
+      in = _mm256_and_pd(in, _mm256_and_pd(_mm256_cmp_pd(u[a], lo, _CMP_GE_OQ), _mm256_cmp_pd(u[a], hi, _CMP_LE_OQ)));
+    __m256d cell[3];
+    for (int a = 0; a < 3; ++a) {
+      const __m256d s = _mm256_and_pd(in, _mm256_mul_pd(u[a], count[a]));  // 0 outside the box
+      cell[a] = _mm256_min_pd(_mm256_max_pd(_mm256_floor_pd(s), zero), last[a]);
+      _mm256_storeu_pd(out.local[a] + i, _mm256_sub_pd(s, cell[a]));
+    }
+    const __m256d flat = _mm256_add_pd(
+        _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(cell[2], count[1]), cell[1]), count[0]), cell[0]);  // exact
+    const __m256d flat_or_none = _mm256_blendv_pd(_mm256_set1_pd(-1), flat, in);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.flat + i), _mm256_cvtepi32_epi64(_mm256_cvttpd_epi32(flat_or_none)));
+  }
+  return i;
+}
+#endif
+
+// ChunkCells for the points pos + v * stride, v = id[t] (or t without ids): the offsets
+// x - origin gathered first, then located four at a time where the CPU can.
+void locate_cells(const CellGrid& grid, const double* pos, Eigen::Index stride, const std::uint32_t* id,
+                  std::ptrdiff_t begin, std::ptrdiff_t end, ChunkCells& out) {
+  const std::ptrdiff_t n = end - begin;
+  const double o[3] = {grid.origin[0], grid.origin[1], grid.origin[2]};  // not reloaded after each store
+  const auto offset = [&out, o](std::ptrdiff_t i, const double* x) {
+    for (int a = 0; a < 3; ++a) {
+      out.x[a][i] = x[a];
+      out.local[a][i] = x[a] - o[a];
+    }
+  };
+  if (id)
+    for (std::ptrdiff_t i = 0; i < n; ++i) offset(i, pos + id[begin + i] * stride);
+  else
+    for (std::ptrdiff_t i = 0; i < n; ++i) offset(i, pos + (begin + i) * stride);
+  std::ptrdiff_t i = 0;
+#if defined(__AVX2__) && defined(__FMA__)
+  const double cells = static_cast<double>(grid.cells[0]) * grid.cells[1] * grid.cells[2];
+  if (cells < 2147483647.0) i = locate_cells_avx2(grid, i, n, out);  // flat cells as int32
+#endif
+  for (; i < n; ++i) locate_cell(grid, i, out);
+}
+
 }  // namespace
 
 template <int D>
 void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                              const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
-                              const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
-                              Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts, bool count_folds) const {
+                              const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, const Visit& visit,
+                              Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
+                              WarpCounts& counts, bool count_folds) const {
   constexpr int N = D + 1;
   refresh_blocks();
   const CellKernel kernel{blocks_.data(), 3 * N * N * N, local_to_world_jac_, out_pos, out_nrm, count_folds && !out_nrm};
-  // Copies, not references, of what the locate loop reads: the chunk's stores could alias
-  // a reference, which would be reloaded for every vertex.
-  const Eigen::Matrix3d inv = box_.inverse_axes();
-  const Eigen::Vector3d origin = box_.origin();
+  const CellGrid grid{box_.inverse_axes(), box_.origin(), {cells_[0], cells_[1], cells_[2]}};
   const double* const pos = in_pos.data();
   const Eigen::Index stride = in_pos.outerStride();
-  const std::uint32_t* const id = ids.data();
+  double* const out = out_pos.data();
+  const Eigen::Index out_stride = out_pos.outerStride();
+  const std::uint32_t* const id = visit.ids ? visit.ids->data() : nullptr;
   const std::int32_t* const block_of = block_of_.data();
-  const int cells[3] = {cells_[0], cells_[1], cells_[2]};
+  // Without ids, Lattice::changed_points' test: inside the box and in a changed piece (a
+  // B-spline's pieces are its cells).
+  const std::uint8_t* const changed = std::all_of(changed_piece_.begin(), changed_piece_.end(),
+                                                  [](std::uint8_t c) { return c != 0; })
+                                          ? nullptr
+                                          : changed_piece_.data();
   std::size_t folded = 0, evaluated = 0;
   const bool no_folds = out_nrm && fold_free();
   constexpr std::ptrdiff_t kChunk = CellChunk::kSize;
-  const std::ptrdiff_t n_ids = static_cast<std::ptrdiff_t>(ids.size());
+  const std::ptrdiff_t n_ids = id ? static_cast<std::ptrdiff_t>(visit.ids->size()) : in_pos.cols();
   const std::ptrdiff_t chunks = (n_ids + kChunk - 1) / kChunk;
+  std::vector<std::vector<std::uint32_t>> parts;  // found, per thread
   // Chunks of consecutive ids (streaming memory access), each sorted by cell.
 #pragma omp parallel reduction(+ : folded, evaluated)
   {
     const std::unique_ptr<CellChunk> chunk(new CellChunk);
+    const std::unique_ptr<ChunkCells> where(new ChunkCells);
     chunk->direct = blocks_.size() / kernel.block_size <= static_cast<std::size_t>(CellChunk::kSlots);
+#pragma omp single
+    parts.resize(id ? 0 : static_cast<std::size_t>(omp_get_num_threads()));
+    std::vector<std::uint32_t>* const found = id ? nullptr : &parts[static_cast<std::size_t>(omp_get_thread_num())];
+    if (found) found->reserve(static_cast<std::size_t>(n_ids / omp_get_num_threads() + 1));
 #pragma omp for schedule(static)
     for (std::ptrdiff_t c = 0; c < chunks; ++c) {
-      for (std::ptrdiff_t t = c * kChunk; t < std::min(n_ids, (c + 1) * kChunk); ++t) {
-        const std::uint32_t v = id[t];
-        const Eigen::Vector3d x = Eigen::Map<const Eigen::Vector3d>(pos + v * stride);
-        const Eigen::Vector3d u = inv * (x - origin);
-        std::int32_t block = -1;
-        double local[3];
-        if (inside(u)) {
-          int cell[3];
-          for (int a = 0; a < 3; ++a) {  // Lattice::locate, inlined for the B-spline's cells
-            const double sa = u[a] * cells[a];
-            cell[a] = piece_at(sa, cells[a]);
-            local[a] = sa - cell[a];
-          }
-          block = block_of[(static_cast<std::size_t>(cell[2]) * cells[1] + cell[1]) * cells[0] + cell[0]];
+      const std::ptrdiff_t begin = c * kChunk, end = std::min(n_ids, (c + 1) * kChunk);
+      locate_cells(grid, pos, stride, id, begin, end, *where);
+      for (std::ptrdiff_t t = begin; t < end; ++t) {
+        const std::uint32_t v = id ? id[t] : static_cast<std::uint32_t>(t);
+        const std::ptrdiff_t i = t - begin;
+        const std::int64_t flat = where->flat[i];
+        if (found) {
+          if (flat < 0 || (changed && !changed[flat])) continue;
+          found->push_back(v);
         }
+        const std::int32_t block = flat < 0 ? -1 : block_of[flat];
         if (block < 0) {  // outside, or no moved point reaches this cell: identity, bit for bit
-          out_pos.col(v) = x;
+          out_pos.col(v) = in_pos.col(v);
           if (out_nrm) out_nrm->col(v) = in_nrm->col(v);
           continue;
         }
         ++evaluated;
-        if (!chunk->add(v, block, local)) {
-          evaluate_chunk<D>(kernel, *chunk, in_pos, in_nrm, no_folds, folded);
-          chunk->add(v, block, local);
+        // The chunk's kernel writes this column later, in cell order: ask for its line now,
+        // so the write does not wait for memory (without it, moving one point of a 4^3
+        // lattice over a 1M-point cloud took 31.6 ms against 26.8).
+        __builtin_prefetch(out + v * out_stride, 1);
+        if (!chunk->add(v, block, i)) {
+          evaluate_chunk<D>(kernel, *chunk, *where, in_nrm, no_folds, folded);
+          chunk->add(v, block, i);
         }
       }
-      evaluate_chunk<D>(kernel, *chunk, in_pos, in_nrm, no_folds, folded);
+      evaluate_chunk<D>(kernel, *chunk, *where, in_nrm, no_folds, folded);
     }
   }
+  if (visit.found) append_parts(parts, *visit.found);
   counts.evaluated += evaluated;
   counts.folded += folded;
 }
 
 void BSplineLattice::evaluate_degree(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                                     const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
-                                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
-                                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts, bool count_folds) const {
+                                     const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, const Visit& visit,
+                                     Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
+                                     WarpCounts& counts, bool count_folds) const {
   switch (degree_) {
     case 1:
-      return evaluate<1>(in_pos, in_nrm, ids, out_pos, out_nrm, counts, count_folds);
+      return evaluate<1>(in_pos, in_nrm, visit, out_pos, out_nrm, counts, count_folds);
     case 2:
-      return evaluate<2>(in_pos, in_nrm, ids, out_pos, out_nrm, counts, count_folds);
+      return evaluate<2>(in_pos, in_nrm, visit, out_pos, out_nrm, counts, count_folds);
     default:
-      return evaluate<3>(in_pos, in_nrm, ids, out_pos, out_nrm, counts, count_folds);
+      return evaluate<3>(in_pos, in_nrm, visit, out_pos, out_nrm, counts, count_folds);
   }
 }
 
@@ -454,7 +589,16 @@ void BSplineLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                            const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
                            const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                            Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const {
-  evaluate_degree(in_pos, &in_nrm, ids, out_pos, &out_nrm, counts);
+  evaluate_degree(in_pos, &in_nrm, {&ids}, out_pos, &out_nrm, counts);
+}
+
+bool BSplineLattice::apply_changed(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                   const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, std::vector<std::uint32_t>& ids,
+                                   Eigen::Ref<Eigen::Matrix3Xd> out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
+                                   WarpCounts& counts) const {
+  if (!any_changed_) return true;  // changed_points() lists nothing
+  evaluate_degree(in_pos, in_nrm, {nullptr, &ids}, out_pos, out_nrm, counts, !in_nrm && !fold_free());
+  return true;
 }
 
 bool BSplineLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
@@ -462,7 +606,7 @@ bool BSplineLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3
                                            WarpCounts& counts) const {
   // Where the lattice may fold, the Jacobian's determinant is still evaluated, to count
   // the folds apply() would count; the normals' cofactor products are not.
-  evaluate_degree(in_pos, nullptr, ids, out_pos, nullptr, counts, !fold_free());
+  evaluate_degree(in_pos, nullptr, {&ids}, out_pos, nullptr, counts, !fold_free());
   return true;
 }
 
@@ -470,7 +614,7 @@ void BSplineLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& i
                                      const std::vector<std::uint32_t>& ids,
                                      Eigen::Ref<Eigen::Matrix3Xd> out_pos) const {
   WarpCounts counts;
-  evaluate_degree(in_pos, nullptr, ids, out_pos, nullptr, counts);
+  evaluate_degree(in_pos, nullptr, {&ids}, out_pos, nullptr, counts);
 }
 
 }  // namespace ffd

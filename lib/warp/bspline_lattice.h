@@ -45,6 +45,11 @@ public:
   bool apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
                              Eigen::Ref<Eigen::Matrix3Xd> out_pos, WarpCounts& counts) const override;
 
+  /// The changed-points scan and the evaluation in one pass over in_pos (Warp).
+  bool apply_changed(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
+                     std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const override;
+
   /// Positions only, for callers that need no normals (benchmarks, drag residuals).
   void apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                        const std::vector<std::uint32_t>& ids,
@@ -72,15 +77,20 @@ protected:
   void piece_changed(std::size_t piece) override;
 
 private:
+  /// Which points an evaluation visits: the listed ids, or (ids null) every column of
+  /// in_pos that changed_points() would list, appended to `found` as it would append them.
+  struct Visit {
+    const std::vector<std::uint32_t>* ids = nullptr;
+    std::vector<std::uint32_t>* found = nullptr;
+  };
   // in_nrm / out_nrm null: positions only, and with `count_folds` the folds counted too.
   template <int D>
-  void evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, const std::vector<std::uint32_t>& ids,
-                Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
+  void evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
+                const Visit& visit, Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
                 WarpCounts& counts, bool count_folds = false) const;
   /// evaluate<D> for the lattice's degree.
   void evaluate_degree(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
-                       const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
+                       const Visit& visit, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
                        Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts, bool count_folds = false) const;
   void compute_block(std::size_t piece) const;
 

@@ -42,6 +42,17 @@ public:
     return false;
   }
 
+  /// changed_points() and then apply() on what it found, in one pass over in_pos: `ids`
+  /// gets what changed_points() would append, the outputs and counts are apply()'s. With
+  /// `in_nrm` and `out_nrm` null, apply_without_normals()'s instead. False: the warp has
+  /// no such pass (it wrote nothing); the caller makes the two calls.
+  virtual bool apply_changed(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                             const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, std::vector<std::uint32_t>& ids,
+                             Eigen::Ref<Eigen::Matrix3Xd> out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
+                             WarpCounts& counts) const {
+    return false;
+  }
+
   /// Appends to `ids` the columns of `in_pos` that lie where the warp changed since the
   /// last clear_changes() (Gain & Dodgson's bit index of altered cells).
   virtual void changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,

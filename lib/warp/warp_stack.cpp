@@ -53,12 +53,24 @@ WarpStack::Update WarpStack::update(Mesh& mesh, std::size_t k) {
     return j == 0 ? mesh.rest_normals() : mesh.vec3_attribute(input_name(j, "nrm"));
   };
   std::vector<std::uint32_t> ids;
-  changed.changed_points(input_pos(k), ids);
   WarpCounts counts;
   // Normals deferred: every normal is zero and stays so (warps keep zero normals zero), so
   // a warp that can evaluate positions alone need not read or write them.
   const bool zero_normals = mesh.normals_deferred();
-  for (std::size_t j = k; j < warps_.size(); ++j) {
+  // The changed warp finds its changed points as it applies itself, where it can: one pass
+  // over its input instead of two.
+  std::size_t j = k;
+  {
+    const bool top = k + 1 == warps_.size();
+    const Eigen::Ref<const Eigen::Matrix3Xd> in_nrm = input_nrm(k);
+    Eigen::Ref<Eigen::Matrix3Xd> out_nrm = top ? mesh.normals() : input_nrm(k + 1);
+    if (changed.apply_changed(input_pos(k), zero_normals ? nullptr : &in_nrm, ids, top ? mesh.positions() : input_pos(k + 1),
+                              zero_normals ? nullptr : &out_nrm, counts))
+      ++j;
+    else
+      changed.changed_points(input_pos(k), ids);
+  }
+  for (; j < warps_.size(); ++j) {
     const bool top = j + 1 == warps_.size();
     warps_[j]->prepare();
     const auto out_pos = top ? mesh.positions() : input_pos(j + 1);
