@@ -233,9 +233,12 @@ constexpr int kChunkSize = 2048;  // ids located and evaluated together
 // cell (-1 outside the box), the local coordinates in it, as Lattice::locate finds them,
 // and the position.
 struct ChunkCells {
-  std::int64_t flat[kChunkSize];
-  double local[3][kChunkSize];
-  double x[3][kChunkSize];
+  // Rows padded so that the same entry of two rows is not a multiple of 4 KiB apart: a
+  // store to one row and a load from another would falsely wait on each other.
+  static constexpr int kRow = kChunkSize + 24;
+  std::int64_t flat[kRow];
+  double local[3][kRow];
+  double x[3][kRow];
 };
 
 // One chunk of a thread's vertices, sorted by cell so that the eight lanes of a register
