@@ -475,11 +475,71 @@ std::ptrdiff_t locate_cells_avx2(const CellGrid& grid, std::ptrdiff_t i, std::pt
 }
 #endif
 
-// ChunkCells for the points pos + v * stride, v = id[t] (or t without ids): the offsets
-// x - origin gathered first, then located four at a time where the CPU can.
+#ifdef __AVX512F__
+// locate_cell for eight points at a time, read straight from consecutive columns `x` of a
+// 3 x n matrix (stride 3) and split into coordinate rows in registers; returns the count
+// it located (a multiple of eight). The same operations lane by lane as locate_cell.
+std::ptrdiff_t locate_cells_avx512(const CellGrid& grid, const double* x, std::ptrdiff_t n, ChunkCells& out) {
+  __m512d m[3][3], count[3], last[3], origin[3];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m[r][c] = _mm512_set1_pd(grid.inv(r, c));
+  for (int a = 0; a < 3; ++a) {
+    count[a] = _mm512_set1_pd(grid.cells[a]);
+    last[a] = _mm512_set1_pd(grid.cells[a] - 1);
+    origin[a] = _mm512_set1_pd(grid.origin[a]);
+  }
+  const __m512d lo = _mm512_set1_pd(-kBoxTolerance), hi = _mm512_set1_pd(1 + kBoxTolerance), zero = _mm512_setzero_pd();
+  // Eight columns x0 y0 z0 x1 ... z7 in three registers: lanes 0-5 of a row from the first
+  // two, lanes 6-7 from the third (permute indices: 8 + k picks the second source's k).
+  const __m512i first[3] = {_mm512_setr_epi64(0, 3, 6, 9, 12, 15, 0, 0), _mm512_setr_epi64(1, 4, 7, 10, 13, 0, 0, 0),
+                            _mm512_setr_epi64(2, 5, 8, 11, 14, 0, 0, 0)};
+  const __m512i second[3] = {_mm512_setr_epi64(0, 1, 2, 3, 4, 5, 10, 13), _mm512_setr_epi64(0, 1, 2, 3, 4, 8, 11, 14),
+                             _mm512_setr_epi64(0, 1, 2, 3, 4, 9, 12, 15)};
+  std::ptrdiff_t i = 0;
+  for (; i + 8 <= n; i += 8) {
+    const double* p = x + 3 * i;
+    const __m512d a = _mm512_loadu_pd(p), b = _mm512_loadu_pd(p + 8), c = _mm512_loadu_pd(p + 16);
+    __m512d d[3];
+    for (int r = 0; r < 3; ++r) {
+      const __m512d row = _mm512_permutex2var_pd(_mm512_permutex2var_pd(a, first[r], b), second[r], c);
+      _mm512_storeu_pd(out.x[r] + i, row);
+      d[r] = _mm512_sub_pd(row, origin[r]);
+    }
+    const __m512d u[3] = {
+        _mm512_fmadd_pd(m[0][2], d[2], _mm512_fmadd_pd(m[0][1], d[1], _mm512_mul_pd(m[0][0], d[0]))),
+        _mm512_fmadd_pd(m[1][2], d[2], _mm512_fmadd_pd(m[1][1], d[1], _mm512_mul_pd(m[1][0], d[0]))),
+        _mm512_fmadd_pd(m[2][0], d[0], _mm512_fmadd_pd(m[2][1], d[1], _mm512_mul_pd(m[2][2], d[2])))};
+    __mmask8 in = 0xff;
+    for (int r = 0; r < 3; ++r)
+      in &= _mm512_cmp_pd_mask(u[r], lo, _CMP_GE_OQ) & _mm512_cmp_pd_mask(u[r], hi, _CMP_LE_OQ);
+    __m512d cell[3];
+    for (int r = 0; r < 3; ++r) {
+      const __m512d s = _mm512_maskz_mul_pd(in, u[r], count[r]);  // 0 outside the box
+      const __m512d floor = _mm512_roundscale_pd(s, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+      cell[r] = _mm512_min_pd(_mm512_max_pd(floor, zero), last[r]);
+      _mm512_storeu_pd(out.local[r] + i, _mm512_sub_pd(s, cell[r]));
+    }
+    const __m512d flat = _mm512_add_pd(
+        _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(cell[2], count[1]), cell[1]), count[0]), cell[0]);  // exact
+    const __m512d flat_or_none = _mm512_mask_blend_pd(in, _mm512_set1_pd(-1), flat);
+    _mm512_storeu_si512(out.flat + i, _mm512_cvtepi32_epi64(_mm512_cvttpd_epi32(flat_or_none)));
+  }
+  return i;
+}
+#endif
+
+// ChunkCells for the points pos + v * stride, v = id[t] (or t without ids): eight at a
+// time straight from consecutive columns where the CPU can; otherwise the offsets
+// x - origin gathered first, then located four at a time where it can.
 void locate_cells(const CellGrid& grid, const double* pos, Eigen::Index stride, const std::uint32_t* id,
                   std::ptrdiff_t begin, std::ptrdiff_t end, ChunkCells& out) {
   const std::ptrdiff_t n = end - begin;
+  std::ptrdiff_t done = 0;
+  const double cells = static_cast<double>(grid.cells[0]) * grid.cells[1] * grid.cells[2];
+  const bool int32_cells = cells < 2147483647.0;  // the vector paths convert flat cells to int32
+#ifdef __AVX512F__
+  if (!id && stride == 3 && int32_cells) done = locate_cells_avx512(grid, pos + 3 * begin, n, out);
+#endif
   const double o[3] = {grid.origin[0], grid.origin[1], grid.origin[2]};  // not reloaded after each store
   const auto offset = [&out, o](std::ptrdiff_t i, const double* x) {
     for (int a = 0; a < 3; ++a) {
@@ -488,15 +548,13 @@ void locate_cells(const CellGrid& grid, const double* pos, Eigen::Index stride, 
     }
   };
   if (id)
-    for (std::ptrdiff_t i = 0; i < n; ++i) offset(i, pos + id[begin + i] * stride);
+    for (std::ptrdiff_t i = done; i < n; ++i) offset(i, pos + id[begin + i] * stride);
   else
-    for (std::ptrdiff_t i = 0; i < n; ++i) offset(i, pos + (begin + i) * stride);
-  std::ptrdiff_t i = 0;
+    for (std::ptrdiff_t i = done; i < n; ++i) offset(i, pos + (begin + i) * stride);
 #if defined(__AVX2__) && defined(__FMA__)
-  const double cells = static_cast<double>(grid.cells[0]) * grid.cells[1] * grid.cells[2];
-  if (cells < 2147483647.0) i = locate_cells_avx2(grid, i, n, out);  // flat cells as int32
+  if (int32_cells) done = locate_cells_avx2(grid, done, n, out);
 #endif
-  for (; i < n; ++i) locate_cell(grid, i, out);
+  for (std::ptrdiff_t i = done; i < n; ++i) locate_cell(grid, i, out);
 }
 
 }  // namespace
