@@ -145,7 +145,7 @@ void BSplineLattice::compute_block(std::size_t piece) const {
     for (int p = 0; p < n; ++p)
       for (int q = 0; q < n; ++q)
         for (int r = 0; r < n; ++r) {
-          double acc = 0;
+          double acc = 0;  // +0.0: a sum from it is never -0.0 (horner_lanes relies on it)
           for (int i = 0; i < n; ++i) acc += M(p, i) * t2[((c * n + i) * n + q) * n + r];
           out[((c * n + p) * n + q) * n + r] = acc;  // [xyz][p][q][r]
         }
@@ -184,7 +184,9 @@ inline void horner_lanes(const double* C, v8d s, v8d t, v8d r, v8d V[3], v8d Vs[
       v8d b = zero, bt = zero, br = zero;
       for (int q = D; q >= 0; --q) {
         const double* cq = C + ((c * N + p) * N + q) * N;
-        v8d a = zero + cq[D], ar = zero;
+        // The leading coefficient broadcast: no block holds -0.0 (compute_block's sums start
+        // at +0.0), so this is 0 + cq[D] bit for bit, without a scalar add per coefficient.
+        v8d a = {cq[D], cq[D], cq[D], cq[D], cq[D], cq[D], cq[D], cq[D]}, ar = zero;
         for (int k = D - 1; k >= 0; --k) {
           if (kGrad) ar = ar * r + a;
           a = a * r + cq[k];
