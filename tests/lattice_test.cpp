@@ -291,7 +291,7 @@ TEST(Lattice, BatchIsBitIdenticalForAnyThreadCount) {
 // apply_changed() writes and lists is what changed_points() then apply() (or
 // apply_without_normals()) would, bit for bit, at one thread and two; columns it does not
 // list keep what was there.
-void expect_apply_changed_matches(const BSplineLattice& lattice, const Eigen::Matrix3Xd& pts,
+void expect_apply_changed_matches(const Lattice& lattice, const Eigen::Matrix3Xd& pts,
                                   const Eigen::Matrix3Xd& nrm, bool normals) {
   std::vector<std::uint32_t> listed;
   lattice.changed_points(pts, listed);
@@ -342,6 +342,33 @@ TEST(BSplineLattice, ApplyChangedIsChangedPointsThenApply) {
         lattice.clear_changes();
       }
     }
+}
+
+// The Bernstein lattice fuses the scan only where it evaluates positions alone (no
+// normals, no fold possible); with normals it leaves the two calls to the stack.
+TEST(BernsteinLattice, ApplyChangedIsChangedPointsThenApplyWithoutNormals) {
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> around(-0.2, 1.2);
+  for (const Index3 degree : {Index3{3, 3, 3}, Index3{2, 4, 3}}) {
+    BernsteinLattice lattice(skewed_box(), degree);
+    Eigen::Matrix3Xd pts(3, 20000);
+    for (Eigen::Index i = 0; i < pts.cols(); ++i)
+      pts.col(i) = lattice.box().to_world(Eigen::Vector3d(around(rng), around(rng), around(rng)));
+    const Index3 ijk{1, 1, 1};
+    lattice.move_point(ijk, lattice.point(ijk) + Eigen::Vector3d(0.01, -0.02, 0.015));
+    lattice.prepare();
+    ASSERT_TRUE(lattice.fold_free());
+    expect_apply_changed_matches(lattice, pts, Eigen::Matrix3Xd::Zero(3, pts.cols()), false);
+    std::vector<std::uint32_t> ids;
+    Eigen::Matrix3Xd p(pts), n(pts);
+    const Eigen::Matrix3Xd nrm = random_unit(pts.cols(), 42);
+    const Eigen::Ref<const Eigen::Matrix3Xd> in_nrm = nrm;
+    Eigen::Ref<Eigen::Matrix3Xd> out_nrm = n;
+    WarpCounts counts;
+    EXPECT_FALSE(lattice.apply_changed(pts, &in_nrm, ids, p, &out_nrm, counts));
+    EXPECT_TRUE(ids.empty());
+    EXPECT_EQ(p, pts);
+  }
 }
 
 TEST(BSplineLattice, MovableZonesFollowTheDegree) {

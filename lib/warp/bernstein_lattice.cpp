@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <omp.h>
+
 #include "common/errors.h"
+#include "common/ordered_select.h"
 
 namespace ffd {
 
@@ -185,12 +188,14 @@ struct BlockPoints {
   int lanes = 0;
 };
 
+// The points ids[first ..] (without ids: the columns first ..) of `count` in all.
 template <int L>
-void load_block(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
+void load_block(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::uint32_t* ids, std::size_t count,
                 std::size_t first, const Parallelepiped& box, BlockPoints<L>& p) {
-  p.lanes = static_cast<int>(std::min<std::size_t>(L, ids.size() - first));
+  p.lanes = static_cast<int>(std::min<std::size_t>(L, count - first));
   for (int l = 0; l < L; ++l) {
-    const Eigen::Vector3d local = box.inverse_axes() * (in_pos.col(ids[first + (l < p.lanes ? l : 0)]) - box.origin());
+    const std::size_t k = first + (l < p.lanes ? l : 0);
+    const Eigen::Vector3d local = box.inverse_axes() * (in_pos.col(ids ? ids[k] : k) - box.origin());
     p.in[l] = Lattice::inside(local);
     for (int a = 0; a < 3; ++a) p.u[a][l] = local[a];
   }
@@ -256,7 +261,7 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t first = static_cast<std::size_t>(b) * L;
     BlockPoints<L> p;
-    load_block(in_pos, ids, first, box_, p);
+    load_block(in_pos, ids.data(), ids.size(), first, box_, p);
     if (no_folds && zero_normals(in_nrm, ids, first, p.lanes)) {
       evaluated += positions_block<L>(n, D.data(), p, in_pos, ids, first, out_pos, out_nrm);
       continue;
@@ -294,45 +299,70 @@ void BernsteinLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
 
 void BernsteinLattice::apply_positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                        const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos) const {
-  positions(in_pos, ids, out_pos);
+  positions(in_pos, &ids, out_pos);
 }
 
 bool BernsteinLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                              const std::vector<std::uint32_t>& ids,
                                              Eigen::Ref<Eigen::Matrix3Xd> out_pos, WarpCounts& counts) const {
   if (!fold_free()) return false;  // apply() counts the folds through the Jacobian
-  counts.evaluated += positions(in_pos, ids, out_pos);
+  counts.evaluated += positions(in_pos, &ids, out_pos);
+  return true;
+}
+
+bool BernsteinLattice::apply_changed(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                     const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, std::vector<std::uint32_t>& ids,
+                                     Eigen::Ref<Eigen::Matrix3Xd> out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
+                                     WarpCounts& counts) const {
+  if (in_nrm || !fold_free()) return false;  // the normals' or the folds' path: the two calls
+  if (any_changed_) counts.evaluated += positions(in_pos, nullptr, out_pos, &ids);  // its one piece changed
   return true;
 }
 
 std::size_t BernsteinLattice::positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                                        const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos) const {
+                                        const std::vector<std::uint32_t>* ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                                        std::vector<std::uint32_t>* found) const {
   const int n[3] = {cells_[0], cells_[1], cells_[2]};
   const std::vector<double> D = packed_displacements();
-  const auto blocks = static_cast<std::ptrdiff_t>((ids.size() + kBlock - 1) / kBlock);
+  const std::size_t count = ids ? ids->size() : static_cast<std::size_t>(in_pos.cols());
+  const std::uint32_t* const id = ids ? ids->data() : nullptr;
+  const auto blocks = static_cast<std::ptrdiff_t>((count + kBlock - 1) / kBlock);
   std::size_t inside = 0;
   const bool cubic = is_cubic();
-#pragma omp parallel for schedule(static) reduction(+ : inside)
-  for (std::ptrdiff_t b = 0; b < blocks; ++b) {
-    const std::size_t first = static_cast<std::size_t>(b) * kBlock;
-    BlockPoints<kBlock> p;
-    load_block(in_pos, ids, first, box_, p);
-    Block w[3][kMaxDegree + 1];
-    const Block* const axes[3] = {w[0], w[1], w[2]};
-    Block acc[3];
-    if (cubic) {
-      for (int a = 0; a < 3; ++a) bernstein_block<kBlock, 3>(3, p.u[a], w[a]);
-      contract_block<kBlock, 3>(n, D.data(), axes, acc);
-    } else {
-      for (int a = 0; a < 3; ++a) bernstein_block<kBlock>(n[a], p.u[a], w[a]);
-      contract_block<kBlock>(n, D.data(), axes, acc);
-    }
-    for (int l = 0; l < p.lanes; ++l) {
-      const std::uint32_t v = ids[first + l];
-      for (int c = 0; c < 3; ++c) out_pos(c, v) = p.in[l] ? in_pos(c, v) + acc[c][l] : in_pos(c, v);
-      inside += p.in[l];
+  std::vector<std::vector<std::uint32_t>> parts;  // found, per thread
+#pragma omp parallel reduction(+ : inside)
+  {
+#pragma omp single
+    parts.resize(id ? 0 : static_cast<std::size_t>(omp_get_num_threads()));
+    std::vector<std::uint32_t>* const mine = id ? nullptr : &parts[static_cast<std::size_t>(omp_get_thread_num())];
+    if (mine) mine->reserve(count / static_cast<std::size_t>(omp_get_num_threads()) + 1);
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+      const std::size_t first = static_cast<std::size_t>(b) * kBlock;
+      BlockPoints<kBlock> p;
+      load_block(in_pos, id, count, first, box_, p);
+      Block w[3][kMaxDegree + 1];
+      const Block* const axes[3] = {w[0], w[1], w[2]};
+      Block acc[3];
+      if (cubic) {
+        for (int a = 0; a < 3; ++a) bernstein_block<kBlock, 3>(3, p.u[a], w[a]);
+        contract_block<kBlock, 3>(n, D.data(), axes, acc);
+      } else {
+        for (int a = 0; a < 3; ++a) bernstein_block<kBlock>(n[a], p.u[a], w[a]);
+        contract_block<kBlock>(n, D.data(), axes, acc);
+      }
+      for (int l = 0; l < p.lanes; ++l) {
+        const std::uint32_t v = id ? id[first + l] : static_cast<std::uint32_t>(first + l);
+        if (mine) {  // only what changed_points() would list: the points in the box
+          if (!p.in[l]) continue;
+          mine->push_back(v);
+        }
+        for (int c = 0; c < 3; ++c) out_pos(c, v) = p.in[l] ? in_pos(c, v) + acc[c][l] : in_pos(c, v);
+        inside += p.in[l];
+      }
     }
   }
+  if (found) append_parts(parts, *found);
   return inside;
 }
 

@@ -53,6 +53,11 @@ public:
   /// zero normals that way too, and counts no fold.
   bool apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
                              Eigen::Ref<Eigen::Matrix3Xd> out_pos, WarpCounts& counts) const override;
+  /// The changed-points scan and the positions in one pass over in_pos (Warp), where
+  /// apply_without_normals() would take the points: no normals, and no fold possible.
+  bool apply_changed(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
+                     std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const override;
   static constexpr int kBlock = 16;
 
 protected:
@@ -60,9 +65,11 @@ protected:
   void pieces_of_point(int axis, int i, int& lo, int& hi) const override { lo = hi = 0; }
 
 private:
-  /// apply_positions, returning how many of the points lie in the box (moved).
-  std::size_t positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
-                        Eigen::Ref<Eigen::Matrix3Xd> out_pos) const;
+  /// apply_positions, returning how many of the points lie in the box (moved). With `ids`
+  /// null: every column of in_pos, of which those in the box (changed_points()' list, in
+  /// order) are appended to `found` and written.
+  std::size_t positions(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>* ids,
+                        Eigen::Ref<Eigen::Matrix3Xd> out_pos, std::vector<std::uint32_t>* found = nullptr) const;
   /// The displacements as [i][j][k][x, y, z], the kernels' order.
   std::vector<double> packed_displacements() const;
   /// Degree 3 on every axis (PyGeM's and most users' lattices): kernels with the degree
