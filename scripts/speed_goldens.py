@@ -101,6 +101,13 @@ def jobs(box_min, box_max):
         # orders their products differently gives other bits (an axis-aligned box hides it).
         "bspline_obb": lattice("bspline", {"degree": 3, "cells": [5, 4, 6]}, "obb")
         + [{"op": "move", "lattice": "L", "select": {"near": near(0.4)}, "transform": {"translate": by}}],
+        # Two stacked lattices: moving the lower one re-evaluates the upper one on a list of
+        # ids (the other path of a lattice's evaluation).
+        "bspline_stack": lattice("bspline", {"degree": 3, "cells": [5, 4, 6]}, "obb")[:1]
+        + [{"op": "lattice", "name": "U", "basis": "bspline", "degree": 2, "cells": [6, 6, 6],
+            "box": {"fit": "obb", "padding": 0.1}}]
+        + [{"op": "move", "lattice": name, "select": {"near": near(f)}, "transform": {"translate": by}}
+           for name, f in (("U", 0.5), ("L", 0.4), ("U", 0.6))],
         "bernstein": lattice("bernstein", {"cells": [3, 3, 3]}),
         "octree": octree,
     }
