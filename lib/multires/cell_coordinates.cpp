@@ -27,38 +27,29 @@ Eigen::Vector3d trilinear(const CellCorners& Q, const Eigen::Vector3d& u, Eigen:
   return x;
 }
 
-// trilinear's Jacobian at u alone (the same weights' derivatives, the same product).
-static Eigen::Matrix3d trilinear_jacobian(const CellCorners& Q, const Eigen::Vector3d& u) {
-  double w[8];
-  Eigen::Matrix<double, 8, 3> dw;
-  trilinear_weights(u, w, &dw);
-  return Q * dw;
-}
-
 bool inverse_trilinear(const CellCorners& Q, const Eigen::Vector3d& x, Eigen::Vector3d& u,
                        const Eigen::Vector3d& guess) {
   u = guess;
   const double scale = (Q.rowwise().maxCoeff() - Q.rowwise().minCoeff()).maxCoeff();
   if (!(scale > 0)) return false;
-  Eigen::Vector3d r = trilinear(Q, u, nullptr) - x;
+  Eigen::Matrix3d J;
+  Eigen::Vector3d r = trilinear(Q, u, &J) - x;
   // Newton's method with a backtracking line search on |r|: bent cells (near cuts, shrunk
-  // points) make the full step overshoot. The Jacobian is evaluated only for a step: on a
-  // regular grid's cell the guess is exact and needs none, and the last point reached
-  // needs none.
+  // points) make the full step overshoot.
   for (int iteration = 0; iteration < 50; ++iteration) {
     if (r.norm() <= 1e-13 * scale) return true;
-    const Eigen::Matrix3d J = trilinear_jacobian(Q, u);
     if (!(std::abs(J.determinant()) > 1e-300)) return false;
     const Eigen::Vector3d step = J.partialPivLu().solve(r);
     double t = 1;
     Eigen::Vector3d next_u = u - step, next_r;
+    Eigen::Matrix3d next_J;
     for (int halving = 0; halving < 30; ++halving, t /= 2) {
       next_u = u - t * step;
-      next_r = trilinear(Q, next_u, nullptr) - x;
+      next_r = trilinear(Q, next_u, &next_J) - x;
       if (next_r.norm() < r.norm()) break;
     }
     if (!(next_r.norm() < r.norm())) return r.norm() <= 1e-9 * scale;
-    u = next_u, r = next_r;
+    u = next_u, r = next_r, J = next_J;
   }
   return r.norm() <= 1e-9 * scale;
 }
