@@ -433,7 +433,7 @@ void locate_cell(const CellGrid& grid, std::ptrdiff_t i, ChunkCells& out) {
   int c[3];
   for (int a = 0; a < 3; ++a) {
     const double s = u[a] * grid.cells[a];
-    c[a] = std::clamp(static_cast<int>(std::floor(s)), 0, grid.cells[a] - 1);
+    c[a] = Lattice::piece_at(s, grid.cells[a]);
     out.local[a][i] = s - c[a];
   }
   out.flat[i] = (static_cast<std::int64_t>(c[2]) * grid.cells[1] + c[1]) * grid.cells[0] + c[0];
@@ -578,10 +578,7 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   const std::int32_t* const block_of = block_of_.data();
   // Without ids, Lattice::changed_points' test: inside the box and in a changed piece (a
   // B-spline's pieces are its cells).
-  const std::uint8_t* const changed = std::all_of(changed_piece_.begin(), changed_piece_.end(),
-                                                  [](std::uint8_t c) { return c != 0; })
-                                          ? nullptr
-                                          : changed_piece_.data();
+  const std::uint8_t* const changed = all_pieces_changed() ? nullptr : changed_piece_.data();
   std::size_t folded = 0, evaluated = 0;
   const bool no_folds = out_nrm && fold_free();
   constexpr std::ptrdiff_t kChunk = CellChunk::kSize;

@@ -184,7 +184,7 @@ void Lattice::changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   // points inside the box, without locating them. The predicate holds copies, not
   // references, so the scan keeps them in registers (with append_selected's private copy,
   // a million points took about 5 ms less).
-  const bool all = std::all_of(changed_piece_.begin(), changed_piece_.end(), [](std::uint8_t c) { return c != 0; });
+  const bool all = all_pieces_changed();
   const auto box_coordinates = [pos = in_pos.data(), stride = in_pos.outerStride(), inv, o](Eigen::Index v) {
     return Eigen::Vector3d(inv * (Eigen::Map<const Eigen::Vector3d>(pos + v * stride) - o));
   };

@@ -126,11 +126,17 @@ public:
   /// Number of non-zero basis functions along `axis` at any u (degree + 1).
   int order(int axis) const { return degree()[axis] + 1; }
 
-protected:
   /// The piece, of n along an axis, that holds s = u * n for box coordinate u (the end
   /// pieces hold what lies outside within the tolerance): locate()'s rule, for the scans
   /// that inline it.
   static int piece_at(double s, int n) { return std::clamp(static_cast<int>(std::floor(s)), 0, n - 1); }
+
+protected:
+  /// Whether every piece changed since clear_changes() (then the changed points are the
+  /// points inside the box).
+  bool all_pieces_changed() const {
+    return std::all_of(changed_piece_.begin(), changed_piece_.end(), [](std::uint8_t c) { return c != 0; });
+  }
   /// Greville abscissa of control index i along `axis`, in box coordinates.
   virtual double node(int axis, int i) const = 0;
   /// Inclusive range of pieces along `axis` that control index i influences.
