@@ -261,6 +261,54 @@ TEST(NewlineFinder, FindsWhatFindFinds) {
     }
 }
 
+TEST(CountKeyedLines, CountsWhatAWalkOverTheLinesCounts) {
+  // Texts of every length to 80 around the 16-byte blocks and their 18-byte reach, from
+  // the letters, blanks and newlines a keyed line is made of, dense enough that keyed lines
+  // start in every lane, at the text's start and in the last bytes.
+  std::mt19937 rng(12);
+  const char alphabet[] = {'v', 'f', ' ', '\t', '\n', '\n', 'x', '1'};
+  for (std::size_t size = 0; size <= 80; ++size)
+    for (int trial = 0; trial < 40; ++trial) {
+      std::string text(size, ' ');
+      for (char& c : text) c = alphabet[rng() % sizeof alphabet];
+      std::size_t v = 0, f = 0;
+      for (std::size_t start = 0; start < size;) {  // the lines, one by one
+        if (start + 1 < size && (text[start + 1] == ' ' || text[start + 1] == '\t'))
+          v += text[start] == 'v', f += text[start] == 'f';
+        const std::size_t end = text.find('\n', start);
+        if (end == std::string::npos) break;
+        start = end + 1;
+      }
+      const auto counts = count_keyed_lines(text, 'v', 'f');
+      ASSERT_EQ(counts[0], v) << "'" << text << "'";
+      ASSERT_EQ(counts[1], f) << "'" << text << "'";
+    }
+}
+
+TEST(Decimal, ReadsWhatFromCharsReads) {
+  // Signs, leading zeros, 0 to 25 digits (past the 18 of the plain loop and past the
+  // range of long long), and what follows: the value, the end and the error must agree.
+  std::mt19937 rng(13);
+  std::vector<std::string> texts = {"", "-", "+1", "-0", "0", "00012", "9223372036854775807", "9223372036854775808",
+                                    "-9223372036854775808", "-9223372036854775809", "999999999999999999",
+                                    "1000000000000000000", "123/4", "12 3", "1e3", "\xff" "1"};
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::string t = rng() % 4 == 0 ? "-" : "";
+    const std::size_t digits = rng() % 26;
+    for (std::size_t k = 0; k < digits; ++k) t += static_cast<char>('0' + (k == 0 && rng() % 2 ? 9 : rng() % 10));
+    if (rng() % 2) t += " /x-"[rng() % 4];
+    texts.push_back(t);
+  }
+  for (const std::string& t : texts) {
+    long long expected = 77, got = 77;
+    const auto want = std::from_chars(t.data(), t.data() + t.size(), expected);
+    const auto have = decimal(t.data(), t.data() + t.size(), got);
+    ASSERT_EQ(have.ec, want.ec) << "'" << t << "'";
+    ASSERT_EQ(have.ptr, want.ptr) << "'" << t << "'";
+    ASSERT_EQ(got, expected) << "'" << t << "'";
+  }
+}
+
 TEST(FileBytes, ReleasedPagesReadBackTheSameBytes) {
   // read_mesh gives a parsed file's pages back before building the mesh (peak memory:
   // the 1M-vertex sphere job 257 -> 185 bytes per vertex); the bytes stay readable.
