@@ -7,6 +7,8 @@
 #include <iterator>
 #include <tuple>
 
+#include "common/madd.h"
+
 namespace ffd {
 namespace {
 
@@ -20,19 +22,17 @@ GridIndex shifted(GridIndex n, int axis, int by) {
 constexpr std::uint8_t kFar = 27;
 
 /// Adds weighted points, centroids and midpoints of a coarse complex to a stencil, looking
-/// up each of the 27 nodes near `base` once. `near`, when given, gets each entry's node
-/// number (or kFar).
+/// up each of the 27 nodes near `base` once, and hands each entry to `sink(point, weight,
+/// node number near base or kFar)`, in the rules' order.
 /// Complex: a GridComplex, or a StepGrid (a large octree level's implied C^k).
-template <class Complex>
+template <class Complex, class Sink>
 struct StencilBuilder {
   const Complex& g;
-  Stencil& out;
+  Sink& sink;
   GridIndex base;
-  std::vector<std::uint8_t>* near = nullptr;
   std::int32_t ids[27];
 
-  StencilBuilder(const Complex& complex, Stencil& stencil, const GridIndex& b, std::vector<std::uint8_t>* n)
-      : g(complex), out(stencil), base(b), near(n) {
+  StencilBuilder(const Complex& complex, Sink& s, const GridIndex& b) : g(complex), sink(s), base(b) {
     std::fill(std::begin(ids), std::end(ids), kUnknown);
   }
   void point(const GridIndex& n, double w) {
@@ -40,11 +40,7 @@ struct StencilBuilder {
     const bool far = static_cast<unsigned>(dx) > 2 || static_cast<unsigned>(dy) > 2 || static_cast<unsigned>(dz) > 2;
     const int slot = far ? kFar : (dz * 3 + dy) * 3 + dx;
     if (!far && ids[slot] == kUnknown) ids[slot] = g.point(n);
-    // Member by member: a pair built whole and copied in is a store-forwarding stall.
-    auto& entry = out.emplace_back();
-    entry.first = far ? g.point(n) : ids[slot];
-    entry.second = w;
-    if (near) near->push_back(static_cast<std::uint8_t>(slot));
+    sink(far ? g.point(n) : ids[slot], w, slot);
   }
   /// Centroid of the cell whose first corner is `c`.
   void cell(const GridIndex& c, double w) {
@@ -63,6 +59,33 @@ struct StencilBuilder {
 
 private:
   static constexpr std::int32_t kUnknown = -2;  // not looked up yet (-1: no point there)
+};
+
+/// A sink that keeps the entries: the stencil, and each entry's node number when asked.
+struct KeptStencil {
+  Stencil& out;
+  std::vector<std::uint8_t>* near;
+  void operator()(std::int32_t point, double w, int slot) {
+    // Member by member: a pair built whole and copied in is a store-forwarding stall.
+    auto& entry = out.emplace_back();
+    entry.first = point;
+    entry.second = w;
+    if (near) near->push_back(static_cast<std::uint8_t>(slot));
+  }
+};
+
+/// A sink that adds each entry's share of a field to a new point's value as it comes:
+/// value += w X.col(point), entry by entry in the stencil's order, each a multiply-add
+/// as `out.col(f) += w * X.col(p)` compiles to (madd), so the same bits as keeping the
+/// stencil and then summing it, without storing it.
+struct SummedField {
+  const double* X;  // column-major, `rows` per column
+  Eigen::Index rows;
+  double* value;
+  void operator()(std::int32_t point, double w, int) {
+    const double* x = X + static_cast<Eigen::Index>(point) * rows;
+    for (Eigen::Index r = 0; r < rows; ++r) value[r] = madd(w, x[r], value[r]);
+  }
 };
 
 template <class Complex>
@@ -103,8 +126,8 @@ void edge_faces(const GridIndex& e, int axis, EdgeFace out[4]) {
   out[3] = {shifted(e, v, -1), u, 2, 3};  // spans axis and -v
 }
 
-template <class Complex>
-void edge_stencil(const Complex& g, const GridIndex& e, int axis, StencilBuilder<Complex>& s) {
+template <class Complex, class Builder>
+void edge_stencil(const Complex& g, const GridIndex& e, int axis, Builder& s) {
   const EdgeRing ring(g, e, axis);
   if (ring.interior()) {  // E = (C_avg + 2 A_avg + (n - 3) M) / n with n = 4 faces
     for (int k = 0; k < 4; ++k) s.cell(ring.cell[k], 1.0 / 16);
@@ -127,8 +150,8 @@ void edge_stencil(const Complex& g, const GridIndex& e, int axis, StencilBuilder
 }
 
 /// The vertex point of a boundary point p (fewer than 8 cells around it).
-template <class Complex>
-void boundary_vertex_stencil(const Complex& g, const GridIndex& p, StencilBuilder<Complex>& s) {
+template <class Complex, class Builder>
+void boundary_vertex_stencil(const Complex& g, const GridIndex& p, Builder& s) {
   int sharp = 0, boundary_edges = 0;
   GridIndex sharp_edge[6];
   int sharp_axis[6];
@@ -166,8 +189,8 @@ void boundary_vertex_stencil(const Complex& g, const GridIndex& p, StencilBuilde
   s.point(p, (n - 3) / n);
 }
 
-template <class Complex>
-void vertex_stencil(const Complex& g, const GridIndex& p, StencilBuilder<Complex>& s) {
+template <class Complex, class Builder>
+void vertex_stencil(const Complex& g, const GridIndex& p, Builder& s) {
   int cells = 0;
   for (int k = 0; k < 8; ++k) cells += present(g, {p[0] - (k & 1), p[1] - ((k >> 1) & 1), p[2] - ((k >> 2) & 1)});
   if (cells == 1) return s.point(p, 1.0);  // a corner point stays where it is
@@ -184,13 +207,12 @@ void vertex_stencil(const Complex& g, const GridIndex& p, StencilBuilder<Complex
   s.point(p, 1.0 / 8);
 }
 
-template <class Complex>
-void stencil_of(const Complex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out,
-                std::vector<std::uint8_t>* near = nullptr) {
-  out.clear();
-  if (near) near->clear();
+/// The new point at fine `node`'s stencil over the coarse points, entry by entry into
+/// `sink` (StencilBuilder).
+template <class Complex, class Sink>
+void apply_rule(const Complex& coarse, const GridIndex& node, SubdivisionRule rule, Sink& sink) {
   const GridIndex base{node[0] >> 1, node[1] >> 1, node[2] >> 1};
-  StencilBuilder<Complex> s(coarse, out, base, near);
+  StencilBuilder<Complex, Sink> s(coarse, sink, base);
   const int odd = (node[0] & 1) + (node[1] & 1) + (node[2] & 1);
   const bool cc = rule == SubdivisionRule::CatmullClark;
   if (odd == 3) return s.cell(base, 1.0);
@@ -211,6 +233,15 @@ void stencil_of(const Complex& coarse, const GridIndex& node, SubdivisionRule ru
   vertex_stencil(coarse, base, s);
 }
 
+template <class Complex>
+void stencil_of(const Complex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out,
+                std::vector<std::uint8_t>* near = nullptr) {
+  out.clear();
+  if (near) near->clear();
+  KeptStencil sink{out, near};
+  apply_rule(coarse, node, rule, sink);
+}
+
 }  // namespace
 
 void subdivision_stencil(const GridComplex& coarse, const GridIndex& node, SubdivisionRule rule, Stencil& out) {
@@ -229,15 +260,11 @@ Eigen::MatrixXd subdivide_where(const GridComplex& coarse, const GridComplex& fi
                                 SubdivisionRule rule, Computed computed) {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(X.rows(), static_cast<Eigen::Index>(fine.num_points()));
   const long long n = static_cast<long long>(fine.num_points());
-#pragma omp parallel
-  {
-    Stencil stencil;
-#pragma omp for schedule(static)
-    for (long long f = 0; f < n; ++f) {
-      if (!computed(fine.points[static_cast<std::size_t>(f)])) continue;
-      subdivision_stencil(coarse, fine.points[static_cast<std::size_t>(f)], rule, stencil);
-      for (const auto& [p, w] : stencil) out.col(f) += w * X.col(p);
-    }
+#pragma omp parallel for schedule(static)
+  for (long long f = 0; f < n; ++f) {
+    if (!computed(fine.points[static_cast<std::size_t>(f)])) continue;
+    SummedField sink{X.data(), X.rows(), out.col(f).data()};  // out.col(f) starts at zero
+    apply_rule(coarse, fine.points[static_cast<std::size_t>(f)], rule, sink);
   }
   return out;
 }

@@ -12,6 +12,7 @@
 #endif
 
 #include "common/errors.h"
+#include "common/madd.h"
 #include "common/ordered_select.h"
 
 namespace ffd {
@@ -403,17 +404,6 @@ struct CellGrid {
   Eigen::Vector3d origin;
   int cells[3];
 };
-
-// a * b + c as this build's Eigen products compute it: fused (one rounding) where the CPU
-// has FMA, as Eigen's packet multiply-add and the compiler's contraction do; a product
-// and a sum otherwise.
-inline double madd(double a, double b, double c) {
-#ifdef __FMA__
-  return std::fma(a, b, c);
-#else
-  return a * b + c;
-#endif
-}
 
 // Box coordinates, cell and local coordinates of one point from its offset d = x - origin,
 // into out's entry i. The box coordinates are Eigen's inv * (x - origin) written out
