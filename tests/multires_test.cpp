@@ -88,6 +88,19 @@ TEST(VolumeSubdivision, TheSparseAndOnePassSubdivisionsAreSubdivideFieldsBitForB
   Eigen::SparseMatrix<double, Eigen::RowMajor> S;
   const Eigen::MatrixXd both = subdivide_field_and_matrix(g, fine, rest, cc, S);
   EXPECT_TRUE((both.array() == subdivide_field(g, fine, rest, cc).array()).all());
+  // subdivide_field sums most new points from fixed stencils (no rule branches, 3-row
+  // fields in registers); the one-pass path keeps each stencil and sums it as Eigen does.
+  // Both rules, a 3-row and a 4-row field, over a level with cuts (boundary rules too).
+  Eigen::MatrixXd four(4, rest.cols());
+  four.topRows(3) = rest;
+  four.row(3) = rest.row(0).array() * rest.row(1).array() - 0.1;
+  for (const auto rule : {SubdivisionRule::Octree, cc})
+    for (const Eigen::MatrixXd* X : {&rest, &four}) {
+      Eigen::SparseMatrix<double, Eigen::RowMajor> matrix;
+      EXPECT_TRUE((subdivide_field_and_matrix(g, fine, *X, rule, matrix).array() ==
+                   subdivide_field(g, fine, *X, rule).array()).all())
+          << X->rows() << " rows, rule " << static_cast<int>(rule);
+    }
   // The matrices merge each stencil into its row; Eigen's setFromTriplets, which sums
   // duplicates in the order given, is the reference: same entries, same bits.
   std::vector<Eigen::Triplet<double>> triplets;

@@ -254,17 +254,95 @@ void subdivision_stencil(const StepGrid& coarse, const GridIndex& node, Subdivis
 
 namespace {
 
+/// Whether the rule for the new point at `node` takes its fixed branch: a cell point;
+/// a face point between two cells; an edge point inside four cells; a vertex point inside
+/// eight (or any point under the octree rules). Its stencil's entries, as nodes near the
+/// node's coarse node and weights, are then the same for every such point of its kind.
+template <class Complex>
+bool fixed_stencil(const Complex& g, const GridIndex& node, SubdivisionRule rule) {
+  if (rule != SubdivisionRule::CatmullClark) return true;
+  const GridIndex base{node[0] >> 1, node[1] >> 1, node[2] >> 1};
+  const int odd = (node[0] & 1) + (node[1] & 1) + (node[2] & 1);
+  if (odd == 3) return true;
+  if (odd == 2) {
+    const int axis = (node[0] & 1) == 0 ? 0 : (node[1] & 1) == 0 ? 1 : 2;
+    return present(g, base) && present(g, shifted(base, axis, -1));
+  }
+  if (odd == 1) return EdgeRing(g, base, (node[0] & 1) ? 0 : (node[1] & 1) ? 1 : 2).interior();
+  for (int k = 0; k < 8; ++k)
+    if (!present(g, {base[0] - (k & 1), base[1] - ((k >> 1) & 1), base[2] - ((k >> 2) & 1)})) return false;
+  return true;
+}
+
+/// A sink that records a stencil's entries as (node near base, weight).
+struct NodeStencil {
+  std::vector<std::pair<std::uint8_t, double>>& out;
+  void operator()(std::int32_t, double w, int slot) { out.push_back({static_cast<std::uint8_t>(slot), w}); }
+};
+
+/// The fixed stencils of one rule by kind of new point (which node coordinates are odd),
+/// recorded from the rules at the first point of the kind that takes the fixed branch.
+/// A point with one is summed from it: its nodes looked up once, its entries run in the
+/// rules' order with SummedField's arithmetic (the same bits as the rules), without the
+/// rules' branches and per-entry node arithmetic. Most new points of a level take it.
+struct FixedStencils {
+  std::vector<std::pair<std::uint8_t, double>> entries[8];
+  std::uint32_t used[8] = {};  // the nodes near base each reads; bit kFar: one beyond them
+  bool recorded[8] = {};
+
+  /// Sums the new point at `node`, for which fixed_stencil holds, into `field`.
+  template <class Complex>
+  void sum(const Complex& g, const GridIndex& node, SubdivisionRule rule, const SummedField& field) {
+    const int kind = (node[0] & 1) | (node[1] & 1) << 1 | (node[2] & 1) << 2;
+    if (!recorded[kind]) {
+      NodeStencil sink{entries[kind]};
+      apply_rule(g, node, rule, sink);
+      for (const auto& [slot, w] : entries[kind]) used[kind] |= 1u << slot;
+      recorded[kind] = true;
+    }
+    if (used[kind] >> kFar) {  // reaches past the nodes near base: the rules' way
+      SummedField sink = field;
+      return apply_rule(g, node, rule, sink);
+    }
+    const GridIndex base{node[0] >> 1, node[1] >> 1, node[2] >> 1};
+    std::int32_t ids[27];
+    for (int slot = 0; slot < 27; ++slot)
+      if (used[kind] >> slot & 1) ids[slot] = g.point(base[0] + slot % 3 - 1, base[1] + slot / 3 % 3 - 1, base[2] + slot / 9 - 1);
+    if (field.rows != 3) {
+      for (const auto& [slot, w] : entries[kind]) {
+        const double* x = field.X + static_cast<Eigen::Index>(ids[slot]) * field.rows;
+        for (Eigen::Index r = 0; r < field.rows; ++r) field.value[r] = madd(w, x[r], field.value[r]);
+      }
+      return;
+    }
+    double v[3] = {field.value[0], field.value[1], field.value[2]};  // in registers, not through memory
+    for (const auto& [slot, w] : entries[kind]) {
+      const double* x = field.X + 3 * static_cast<Eigen::Index>(ids[slot]);
+      v[0] = madd(w, x[0], v[0]), v[1] = madd(w, x[1], v[1]), v[2] = madd(w, x[2], v[2]);
+    }
+    std::copy(v, v + 3, field.value);
+  }
+};
+
 // The field at the new points for which computed(node) holds (the others stay zero).
 template <class Computed>
 Eigen::MatrixXd subdivide_where(const GridComplex& coarse, const GridComplex& fine, const Eigen::MatrixXd& X,
                                 SubdivisionRule rule, Computed computed) {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(X.rows(), static_cast<Eigen::Index>(fine.num_points()));
   const long long n = static_cast<long long>(fine.num_points());
-#pragma omp parallel for schedule(static)
-  for (long long f = 0; f < n; ++f) {
-    if (!computed(fine.points[static_cast<std::size_t>(f)])) continue;
-    SummedField sink{X.data(), X.rows(), out.col(f).data()};  // out.col(f) starts at zero
-    apply_rule(coarse, fine.points[static_cast<std::size_t>(f)], rule, sink);
+#pragma omp parallel
+  {
+    FixedStencils fixed;
+#pragma omp for schedule(static)
+    for (long long f = 0; f < n; ++f) {
+      const GridIndex& node = fine.points[static_cast<std::size_t>(f)];
+      if (!computed(node)) continue;
+      SummedField sink{X.data(), X.rows(), out.col(f).data()};  // out.col(f) starts at zero
+      if (fixed_stencil(coarse, node, rule))
+        fixed.sum(coarse, node, rule, sink);
+      else
+        apply_rule(coarse, node, rule, sink);
+    }
   }
   return out;
 }
