@@ -1,15 +1,21 @@
-// ZeroedArray: n values that start as zero bits without being written: calloc maps
-// fresh pages, so only the pages a program writes or reads are ever faulted in. For large
-// fields of which one step touches a small part (an octree level's subdivided
-// displacements: a first move at level 5 writes a few thousand of its 490k slots).
+// ZeroedArray: n values that start as zero bits without being written. A large array is
+// its own anonymous mapping of fresh pages, so only the pages a program writes or reads
+// are ever faulted in; a small one comes from calloc. For large fields of which one step
+// touches a small part (an octree level's subdivided displacements: a first move at level
+// 5 writes a few thousand of its 490k slots). Mapped rather than left to calloc, which
+// gives fresh pages only while the allocator maps large blocks itself: ffdtool keeps freed
+// memory for reuse (its main), and calloc must clear reused memory, every page of it.
 #pragma once
 
-#include <cstdlib>
+#include <cstddef>
 #include <memory>
-#include <new>
 #include <type_traits>
 
 namespace ffd {
+
+/// `bytes` of zero bits: fresh pages when large; free with free_zeroed.
+void* allocate_zeroed(std::size_t bytes);
+void free_zeroed(void* p, std::size_t bytes) noexcept;
 
 template <class T>
 class ZeroedArray {
@@ -17,9 +23,8 @@ class ZeroedArray {
 
 public:
   ZeroedArray() = default;
-  explicit ZeroedArray(std::size_t n) : data_(n ? static_cast<T*>(std::calloc(n, sizeof(T))) : nullptr), size_(n) {
-    if (n && !data_) throw std::bad_alloc();
-  }
+  explicit ZeroedArray(std::size_t n)
+      : data_(n ? static_cast<T*>(allocate_zeroed(n * sizeof(T))) : nullptr, Free{n * sizeof(T)}), size_(n) {}
   T* data() { return data_.get(); }
   const T* data() const { return data_.get(); }
   T& operator[](std::size_t i) { return data_.get()[i]; }
@@ -28,7 +33,8 @@ public:
 
 private:
   struct Free {
-    void operator()(T* p) const { std::free(p); }
+    std::size_t bytes = 0;
+    void operator()(T* p) const { free_zeroed(p, bytes); }
   };
   std::unique_ptr<T, Free> data_;
   std::size_t size_ = 0;
