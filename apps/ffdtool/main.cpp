@@ -7,6 +7,10 @@
 #include <cstdlib>
 #include <iostream>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include "batch/batch.h"
 #include "batch/batch_junit.h"
 #include "batch/batch_report.h"
@@ -288,9 +292,26 @@ int dispatch(Commands& c) {
   return 0;
 }
 
+// A run frees large arrays and then allocates others of about the same size: the reader's
+// polygon soup, then the deformed positions and normals and the tags of the moves. By
+// default glibc maps each array of 128 KiB or more from the kernel and unmaps it when
+// freed, so every new array is fresh pages that the kernel must fault in and zero (about
+// 1 us per 4 KiB here). With arrays up to 32 MiB (glibc's largest threshold) taken from the
+// heap, and freed memory kept rather than trimmed, the later arrays reuse the pages of the
+// earlier ones. Measured on the 1M-vertex sphere (one thread): the move step 32.8 -> 29.7
+// ms, peak memory unchanged (185 bytes per vertex). Only this program: the library, which
+// Python loads, leaves the allocator as the host set it.
+void keep_freed_memory() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#endif
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  keep_freed_memory();
   CLI::App app{"ffdtool: deform polygon meshes with lattice FFD scripts"};
   app.set_version_flag("--version", std::string("ffdtool ") + FFD_VERSION + " (" + FFD_BUILD_FLAGS + ")");
   app.require_subcommand(1);
