@@ -310,6 +310,30 @@ TEST(StagedFile, CommitReplacesTheTargetInOneStep) {
   }
 }
 
+// Over a regular file commit exchanges the two names and removes the old file; over
+// anything else it renames, so a target that is a directory is refused (and kept, with
+// nothing left beside it), and a symbolic link is replaced by the file, not followed.
+TEST(StagedFile, CommitOverADirectoryOrASymlinkIsARename) {
+  for (Staging staging : {Staging::Auto, Staging::NamedTemp}) {
+    const std::string dir = temp_folder("commit_kinds");
+    fs::create_directory(dir + "/folder.obj");
+    write_file(dir + "/folder.obj/inside", "kept");
+    EXPECT_THROW(write_file_atomically(dir + "/folder.obj", [](std::ostream& os) { os << "new"; }), IoError);
+    EXPECT_EQ(read_file(dir + "/folder.obj/inside"), "kept");
+    EXPECT_EQ(files_in(dir), std::set<std::string>{"folder.obj"});
+
+    write_file(dir + "/real.obj", "real");
+    fs::create_symlink("real.obj", dir + "/link.obj");
+    StagedFile staged(dir + "/link.obj", staging);
+    staged.write([](std::ostream& os) { os << "new"; });
+    staged.commit();
+    EXPECT_FALSE(fs::is_symlink(dir + "/link.obj"));
+    EXPECT_EQ(read_file(dir + "/link.obj"), "new");
+    EXPECT_EQ(read_file(dir + "/real.obj"), "real");
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"folder.obj", "link.obj", "real.obj"}));
+  }
+}
+
 // A staged file dropped without commit, written or not, leaves the folder as it was;
 // so does a writer that throws its own error, which passes through unchanged.
 TEST(StagedFile, DestructionWithoutCommitLeavesNothing) {

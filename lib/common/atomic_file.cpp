@@ -28,11 +28,22 @@
 // the machine losing power, and an fsync per file would cost more than writing most
 // meshes. Without it, a write error that only writeback finds (EIO on a network file
 // system) can surface at close(), after the link: the file linked is then removed.
+//
+// Over an existing regular file, the rename is an exchange (renameat2 RENAME_EXCHANGE):
+// the new file takes the target's name in one step and the old one, now under the
+// temporary name, is removed. ext4 takes a rename over a file as a program replacing a
+// file without fsync and allocates the new file's blocks there and then (auto_da_alloc:
+// 63 ms of 71 for a 107 MB OBJ here); an exchange leaves them to writeback, as for a new
+// file. That heuristic is about power loss, which this file does not promise. A kill
+// between the exchange and the removal leaves the old file under the temporary name.
 #include "common/atomic_file.h"
 
 #include <fcntl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <cstdio>
 
 #include <algorithm>
 #include <atomic>
@@ -193,6 +204,21 @@ bool link_unnamed(int fd, const fs::path& name) {
   return false;
 }
 
+// Puts the file named `temp` in `target`'s place in one step: over a regular file by
+// exchanging the names and removing the old file (the top of this file), elsewhere (a new
+// name, a directory, a symlink, a file system without exchanges) by rename. 0 or errno.
+int replace_with(const fs::path& temp, const fs::path& target) {
+#ifdef RENAME_EXCHANGE
+  struct stat st {};
+  if (::lstat(target.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+      ::renameat2(AT_FDCWD, temp.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) == 0) {
+    ::unlink(temp.c_str());  // the old file: the new one is in place whatever this gives
+    return 0;
+  }
+#endif
+  return ::rename(temp.c_str(), target.c_str()) == 0 ? 0 : errno;
+}
+
 }  // namespace
 
 /// What a StagedFile holds; the destructor discards whatever was not committed.
@@ -250,7 +276,7 @@ struct StagedFile::State {
     if (!link_unnamed(fd, target)) {
       if (errno != EEXIST) fail(target, errno);
       link_temp();
-      if (::rename(temp.c_str(), target.c_str()) != 0) fail(target, errno);
+      if (const int error = replace_with(temp, target)) fail(target, error);
       temp.clear();
     }
     if (!close_file()) {
@@ -307,7 +333,7 @@ void StagedFile::commit() {
     s.commit_unnamed();
   } else {
     if (!s.close_file()) fail(s.target, errno);
-    if (::rename(s.temp.c_str(), s.target.c_str()) != 0) fail(s.target, errno);
+    if (const int error = replace_with(s.temp, s.target)) fail(s.target, error);
   }
   s.committed = true;
 }
