@@ -287,7 +287,8 @@ TEST(CountKeyedLines, CountsWhatAWalkOverTheLinesCounts) {
 
 TEST(Decimal, ReadsWhatFromCharsReads) {
   // Signs, leading zeros, 0 to 25 digits (past the 18 of the plain loop and past the
-  // range of long long), and what follows: the value, the end and the error must agree.
+  // range of long long), and what follows, with more digits after a stop: the value, the
+  // end and the error must agree.
   std::mt19937 rng(13);
   std::vector<std::string> texts = {"", "-", "+1", "-0", "0", "00012", "9223372036854775807", "9223372036854775808",
                                     "-9223372036854775808", "-9223372036854775809", "999999999999999999",
@@ -296,7 +297,8 @@ TEST(Decimal, ReadsWhatFromCharsReads) {
     std::string t = rng() % 4 == 0 ? "-" : "";
     const std::size_t digits = rng() % 26;
     for (std::size_t k = 0; k < digits; ++k) t += static_cast<char>('0' + (k == 0 && rng() % 2 ? 9 : rng() % 10));
-    if (rng() % 2) t += " /x-"[rng() % 4];
+    if (rng() % 2) t += " /x-:?"[rng() % 6];  // ":" and "?" follow "9" in ASCII
+    if (rng() % 3 == 0) t += std::to_string(rng() % 100000) + " 123456789";  // more after a stop
     texts.push_back(t);
   }
   for (const std::string& t : texts) {
@@ -370,6 +372,7 @@ TEST(ObjIo, FastPathReadsWhatTheGeneralPathReads) {
        {"f 1 2 3", "f -3 -2 -1", "f 1/1 2/1 3/1", "f 1//1 2//1 3//1", "f 1/1/1 2/1/1 3/1/1", "f 1/ 2/ 3/",
         "f 1// 2// 3//", "f 1/1/ 2 3", "f +1 2 3", "f 1 2 3 # c", "f 1 2 3#c", "f\t1\t2\t3\t", "f 1 2", "f 1 2 4",
         "f 0 1 2", "f 1 2 3/2", "f 1/1/1/1 2 3", "f 1 2 3 x", "f 01 2 3", "f 1 2 99999999999999999999",
+        "f 1 2 3 1 2 3 1 2", "f 1 2 3 1 2 3 1 2 3", "f 1 2/1 3", "f 1 2 3 1 2 3 1 2/1", "f -1 -2 -3 -4",
         "v 1 2 3 4", "v 1 2", "v 1 2 3 1", "v +1 2 3", "v 1e400 0 0", "v nan 0 0", "v inf 0 0", "v -0 0x1 0",
         "v 1. .5 -.5e-3", "v 1 2 3 0.5 0.5 0.5", "v\t1\t2\t3\t", "  v 1 2 3", "vv 1 2 3", "v 1 2 3\r"}) {
     texts.push_back(head + line + "\nf 1 2 3\n");

@@ -182,10 +182,27 @@ bool fast_corner(const char*& p, const char* end, const PolygonSoup& soup, std::
   return fast_index(p, end, soup.normals.size(), false, corner[2]);
 }
 
+// A face of up to 8 corners that are vertex indices alone (`f 1 2 3`, nearly every
+// face of a mesh without UVs or normals), read straight into the soup; false, having
+// changed nothing, at anything else (read_face_fast then reads the line whole).
+bool read_plain_face(const char* p, const char* end, std::int32_t group, std::size_t n, PolygonSoup& soup) {
+  std::int64_t v[8];
+  int count = 0;
+  for (p = skip_blanks(p, end); p < end; p = skip_blanks(p, end)) {
+    if (count == 8 || !fast_index(p, end, soup.positions.size(), true, v[count]) || (p < end && *p == '/')) return false;
+    ++count;
+  }
+  if (count < 3) return false;
+  for (int c = 0; c < count; ++c) soup.elements.add_corner(static_cast<std::uint32_t>(v[c]));
+  soup.elements.close(ElementKind::Polygon, group, n);
+  return true;
+}
+
 bool read_face_fast(std::string_view line, std::int32_t group, std::size_t n, PolygonSoup& soup,
                     std::vector<std::int64_t>& corners) {
   const char* p = line.data() + 1;
   const char* end = line.data() + line.size();
+  if (read_plain_face(p, end, group, n, soup)) return true;
   corners.clear();
   for (p = skip_blanks(p, end); p < end; p = skip_blanks(p, end)) {
     std::int64_t c[3];
