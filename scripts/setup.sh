@@ -9,7 +9,7 @@ packages=(
   libcgal-dev libeigen3-dev libsuitesparse-dev libsleef-dev libnanoflann-dev
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libpng-dev
   libdraco-dev libmeshoptimizer-dev
-  libpugixml-dev zlib1g-dev
+  libpugixml-dev zlib1g-dev libfmt-dev
   libgtest-dev libgmock-dev libssl-dev
   libcgal-demo
   libxml2-utils

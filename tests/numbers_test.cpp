@@ -91,6 +91,39 @@ TEST(Numbers, FormatAndParseRoundTripExactlyOverManyMagnitudes) {
   EXPECT_GT(shortest_checked, 80000u);
 }
 
+// format_number_to lays out Dragonbox's digits itself; it must write std::to_chars'
+// bytes for every double (but -0, written as 0): random bit patterns (every magnitude,
+// subnormals), coordinates, short decimals, powers of two and ten, whole numbers around
+// 2^53 (where std::to_chars writes exact integers), and the %f/%e boundaries.
+TEST(Numbers, FormatWritesWhatToCharsWrites) {
+  std::mt19937_64 rng(21);
+  std::size_t checked = 0;
+  const auto check = [&](double x) {
+    if (!std::isfinite(x)) return;
+    char want[64], have[kNumberChars];
+    char* want_end = std::to_chars(want, want + sizeof want, x == 0.0 ? 0.0 : x).ptr;
+    char* have_end = format_number_to(have, x);
+    ASSERT_EQ(std::string(have, have_end), std::string(want, want_end)) << std::hexfloat << x;
+    ++checked;
+  };
+  for (const double x : {0.0, -0.0, 1.0, -1.0, 0.5, 0.1, 1e-5, 1.5e-5, 1e-4, 12345.0, 123456.0, 1e15, 1e16, 9007199254740991.0,
+                         9007199254740992.0, 1e21, 1e22, 1e23, 5e-324, 2.2250738585072014e-308, 1.7976931348623157e308})
+    for (const double sign : {1.0, -1.0}) check(sign * x);
+  for (int i = 0; i < 200000; ++i) {
+    const std::uint64_t bits = rng();
+    double x;
+    std::memcpy(&x, &bits, sizeof x);
+    check(x);
+    check(std::uniform_real_distribution<double>(-1000, 1000)(rng));
+    check(std::uniform_real_distribution<double>(0, 1)(rng));
+    check(static_cast<double>(static_cast<std::int64_t>(rng() % 100000000) - 50000000) / std::pow(10.0, static_cast<int>(rng() % 12)));
+    check(std::ldexp(1.0, static_cast<int>(rng() % 2098) - 1074));
+    check(static_cast<double>(rng() % (std::uint64_t{1} << 55)));
+    check(std::pow(10.0, static_cast<int>(rng() % 50) - 25) * static_cast<double>(1 + rng() % 999));
+  }
+  EXPECT_GT(checked, 1000000u);
+}
+
 TEST(Numbers, ExtremeValuesRoundTrip) {
   for (double x : {std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
                    std::numeric_limits<double>::min(), std::numeric_limits<double>::denorm_min(),

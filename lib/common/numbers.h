@@ -13,9 +13,10 @@ namespace ffd {
 /// written as "nan"/"inf" so that a bug never hides as a plausible number.
 void append_number(std::string& out, double x);
 
-/// Writes append_number's text of x at `first` (room for kNumberChars characters) and
-/// returns the end; for writers that format into their own buffer.
-constexpr std::size_t kNumberChars = 32;
+/// Writes append_number's text of x at `first` and returns the end; for writers that format
+/// into their own buffer. It may write anywhere in kNumberChars characters from `first`
+/// (past the end it returns), so the buffer needs that room.
+constexpr std::size_t kNumberChars = 48;
 char* format_number_to(char* first, double x);
 
 /// The shortest round-trip text of x.
