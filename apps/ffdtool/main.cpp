@@ -298,7 +298,7 @@ int dispatch(Commands& c) {
 // freed, so every new array is fresh pages that the kernel must fault in and zero (about
 // 1 us per 4 KiB here). With arrays up to 32 MiB (glibc's largest threshold) taken from the
 // heap, and freed memory kept rather than trimmed, the later arrays reuse the pages of the
-// earlier ones. Measured on the 1M-vertex sphere (one thread): the move step 32.8 -> 29.7
+// earlier ones. Measured on the 1M-vertex sphere (one thread): the move step 33.0 -> 28.9
 // ms, peak memory unchanged (185 bytes per vertex). Only this program: the library, which
 // Python loads, leaves the allocator as the host set it.
 void keep_freed_memory() {

@@ -15,7 +15,7 @@ namespace {
 
 // Shortest round-trip text, as std::to_chars(double) writes it, from {fmt}'s Dragonbox
 // digits: the same bytes (numbers_test compares them on millions of doubles of every kind)
-// in about 30 ns where std::to_chars takes 40 on a 1M-vertex OBJ's coordinates. Most of
+// in about 33 ns where std::to_chars takes 40 on a 1M-vertex OBJ's coordinates. Most of
 // std::to_chars' time is printing the shortest significand two digits after another, each
 // step waiting on the last division; here its eight-digit halves are split into pairs that
 // do not wait on each other. Where std::to_chars writes a whole number from 2^53 on as its
