@@ -110,8 +110,9 @@ inline bool blank(char c) { return c == ' ' || c == '\t'; }
 /// How many lines of `text` start with `a` and then a blank, and how many with `b` (OBJ's
 /// "v " and "f "): a line starts at the text's start and after each '\n'. With AVX2 it
 /// tests 32 positions at once for a '\n' followed by the letter and a blank, without a
-/// branch per line (SSE2: 16 for what is left): on a 1M-vertex OBJ (107 MB, 3M lines)
-/// 17 ms against 31 for a walk from newline to newline (SSE2 alone: about 30).
+/// branch per line: on a 1M-vertex OBJ (107 MB, 3M lines) 17 ms against 31 for the walk
+/// from newline to newline that counts the rest (and all of it elsewhere). Sixteen
+/// positions at once (SSE2) were no faster than that walk.
 inline std::array<std::size_t, 2> count_keyed_lines(std::string_view text, char a, char b) {
   std::array<std::size_t, 2> counts{0, 0};
   const char* d = text.data();
@@ -122,35 +123,21 @@ inline std::array<std::size_t, 2> count_keyed_lines(std::string_view text, char 
   line_at(0);
   std::size_t i = 0;  // positions below i are tested for a '\n'
 #ifdef __AVX2__
-  const __m256i newline32 = _mm256_set1_epi8('\n'), ka32 = _mm256_set1_epi8(a), kb32 = _mm256_set1_epi8(b);
-  const __m256i space32 = _mm256_set1_epi8(' '), tab32 = _mm256_set1_epi8('\t');
+  const __m256i newline = _mm256_set1_epi8('\n'), ka = _mm256_set1_epi8(a), kb = _mm256_set1_epi8(b);
+  const __m256i space = _mm256_set1_epi8(' '), tab = _mm256_set1_epi8('\t');
   for (; i + 34 <= n; i += 32) {
     const auto at = [d, i](std::size_t k) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(d + i + k)); };
     const __m256i line = at(0), key = at(1), gap = at(2);
-    const __m256i starts = _mm256_and_si256(_mm256_cmpeq_epi8(line, newline32),
-                                            _mm256_or_si256(_mm256_cmpeq_epi8(gap, space32), _mm256_cmpeq_epi8(gap, tab32)));
+    const __m256i starts = _mm256_and_si256(_mm256_cmpeq_epi8(line, newline),
+                                            _mm256_or_si256(_mm256_cmpeq_epi8(gap, space), _mm256_cmpeq_epi8(gap, tab)));
     counts[0] += static_cast<std::size_t>(__builtin_popcount(
-        static_cast<unsigned>(_mm256_movemask_epi8(_mm256_and_si256(starts, _mm256_cmpeq_epi8(key, ka32))))));
+        static_cast<unsigned>(_mm256_movemask_epi8(_mm256_and_si256(starts, _mm256_cmpeq_epi8(key, ka))))));
     counts[1] += static_cast<std::size_t>(__builtin_popcount(
-        static_cast<unsigned>(_mm256_movemask_epi8(_mm256_and_si256(starts, _mm256_cmpeq_epi8(key, kb32))))));
+        static_cast<unsigned>(_mm256_movemask_epi8(_mm256_and_si256(starts, _mm256_cmpeq_epi8(key, kb))))));
   }
 #endif
-#ifdef __SSE2__
-  const __m128i newline = _mm_set1_epi8('\n'), ka = _mm_set1_epi8(a), kb = _mm_set1_epi8(b);
-  const __m128i space = _mm_set1_epi8(' '), tab = _mm_set1_epi8('\t');
-  for (; i + 18 <= n; i += 16) {
-    const auto at = [d, i](std::size_t k) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(d + i + k)); };
-    const __m128i line = at(0), key = at(1), gap = at(2);
-    const __m128i starts = _mm_and_si128(_mm_cmpeq_epi8(line, newline),
-                                         _mm_or_si128(_mm_cmpeq_epi8(gap, space), _mm_cmpeq_epi8(gap, tab)));
-    counts[0] += static_cast<std::size_t>(__builtin_popcount(
-        static_cast<unsigned>(_mm_movemask_epi8(_mm_and_si128(starts, _mm_cmpeq_epi8(key, ka))))));
-    counts[1] += static_cast<std::size_t>(__builtin_popcount(
-        static_cast<unsigned>(_mm_movemask_epi8(_mm_and_si128(starts, _mm_cmpeq_epi8(key, kb))))));
-  }
-#endif
-  for (; i < n; ++i)
-    if (d[i] == '\n') line_at(i + 1);
+  NewlineFinder newlines(text);  // the rest (all of it without AVX2): newline to newline
+  for (std::size_t p = newlines.next(i); p < n; p = newlines.next(p + 1)) line_at(p + 1);
   return counts;
 }
 
