@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <omp.h>
-
 #include "common/errors.h"
 #include "common/ordered_select.h"
 
@@ -329,13 +327,10 @@ std::size_t BernsteinLattice::positions(const Eigen::Ref<const Eigen::Matrix3Xd>
   const auto blocks = static_cast<std::ptrdiff_t>((count + kBlock - 1) / kBlock);
   std::size_t inside = 0;
   const bool cubic = is_cubic();
-  std::vector<std::vector<std::uint32_t>> parts;  // found, per thread
+  ThreadParts parts;  // found, per thread
 #pragma omp parallel reduction(+ : inside)
   {
-#pragma omp single
-    parts.resize(id ? 0 : static_cast<std::size_t>(omp_get_num_threads()));
-    std::vector<std::uint32_t>* const mine = id ? nullptr : &parts[static_cast<std::size_t>(omp_get_thread_num())];
-    if (mine) mine->reserve(count / static_cast<std::size_t>(omp_get_num_threads()) + 1);
+    std::vector<std::uint32_t>* const mine = id ? nullptr : &parts.mine(static_cast<std::int64_t>(count));
 #pragma omp for schedule(static)
     for (std::ptrdiff_t b = 0; b < blocks; ++b) {
       const std::size_t first = static_cast<std::size_t>(b) * kBlock;
@@ -362,7 +357,7 @@ std::size_t BernsteinLattice::positions(const Eigen::Ref<const Eigen::Matrix3Xd>
       }
     }
   }
-  if (found) append_parts(parts, *found);
+  if (found) parts.append_to(*found);
   return inside;
 }
 

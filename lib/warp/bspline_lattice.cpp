@@ -6,7 +6,6 @@
 #include <cstring>
 #include <memory>
 
-#include <omp.h>
 #if defined(__AVX2__) && defined(__FMA__)
 #include <immintrin.h>
 #endif
@@ -397,7 +396,6 @@ void evaluate_chunk(const CellKernel& k, CellChunk& chunk, const ChunkCells& whe
   chunk.clear();
 }
 
-
 // What locating reads: the box (inverse axes, origin) and the cells per axis.
 struct CellGrid {
   Eigen::Matrix3d inv;
@@ -574,17 +572,14 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
   constexpr std::ptrdiff_t kChunk = CellChunk::kSize;
   const std::ptrdiff_t n_ids = id ? static_cast<std::ptrdiff_t>(visit.ids->size()) : in_pos.cols();
   const std::ptrdiff_t chunks = (n_ids + kChunk - 1) / kChunk;
-  std::vector<std::vector<std::uint32_t>> parts;  // found, per thread
+  ThreadParts parts;  // found, per thread
   // Chunks of consecutive ids (streaming memory access), each sorted by cell.
 #pragma omp parallel reduction(+ : folded, evaluated)
   {
     const std::unique_ptr<CellChunk> chunk(new CellChunk);
     const std::unique_ptr<ChunkCells> where(new ChunkCells);
     chunk->direct = blocks_.size() / kernel.block_size <= static_cast<std::size_t>(CellChunk::kSlots);
-#pragma omp single
-    parts.resize(id ? 0 : static_cast<std::size_t>(omp_get_num_threads()));
-    std::vector<std::uint32_t>* const found = id ? nullptr : &parts[static_cast<std::size_t>(omp_get_thread_num())];
-    if (found) found->reserve(static_cast<std::size_t>(n_ids / omp_get_num_threads() + 1));
+    std::vector<std::uint32_t>* const found = id ? nullptr : &parts.mine(n_ids);
 #pragma omp for schedule(static)
     for (std::ptrdiff_t c = 0; c < chunks; ++c) {
       const std::ptrdiff_t begin = c * kChunk, end = std::min(n_ids, (c + 1) * kChunk);
@@ -616,7 +611,7 @@ void BSplineLattice::evaluate(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
       evaluate_chunk<D>(kernel, *chunk, *where, in_nrm, no_folds, folded);
     }
   }
-  if (visit.found) append_parts(parts, *visit.found);
+  if (visit.found) parts.append_to(*visit.found);
   counts.evaluated += evaluated;
   counts.folded += folded;
 }
