@@ -13,7 +13,7 @@ NormalDetail::NormalDetail(const Eigen::Ref<const Eigen::Matrix3Xd>& base, const
   number_slots(count, static_cast<std::size_t>(base.cols()), triangles);
   positions_.resize(3, static_cast<Eigen::Index>(slots_.size()));
   results_.resize(3, static_cast<Eigen::Index>(count));
-  face_normals_.resize(3, static_cast<Eigen::Index>(triangles_.size()));
+  face_normals_.setZero(4, static_cast<Eigen::Index>(triangles_.size()));
   coefficients_.resize(3, static_cast<Eigen::Index>(count));
   choose_references(base);
   gather(base);
@@ -125,7 +125,7 @@ void NormalDetail::face_normals() const {
     const Triangle& t = triangles_[static_cast<std::size_t>(f)];
     const Eigen::Vector3d a = positions_.col(t[0]);
     // Twice the area times the unit normal: area-weighted vertex normals.
-    face_normals_.col(f) = (positions_.col(t[1]) - a).cross(positions_.col(t[2]) - a);
+    face_normals_.col(f).head<3>() = (positions_.col(t[1]) - a).cross(positions_.col(t[2]) - a);
   }
 }
 
@@ -138,9 +138,9 @@ void NormalDetail::block_frames(long first, Block3& n, Block3& t, Block3& b, Blo
       t.col(j) = Eigen::Vector3d::UnitX().array();
       continue;
     }
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Vector4d sum = Eigen::Vector4d::Zero();
     for (std::uint32_t e = incident_offset_[s]; e < incident_offset_[s + 1]; ++e) sum += face_normals_.col(incident_[e]);
-    n.col(j) = sum.array();
+    n.col(j) = sum.head<3>().array();
     t.col(j) = (positions_.col(reference_[s]) - positions_.col(static_cast<Eigen::Index>(s))).array();
   }
   // Row arithmetic: n = sum/|sum|, t = (d − (d·n)n)/|…|, b = n × t.
@@ -157,8 +157,9 @@ void NormalDetail::block_frames(long first, Block3& n, Block3& t, Block3& b, Blo
   b.row(0) = n.row(1) * t.row(2) - n.row(2) * t.row(1);
   b.row(1) = n.row(2) * t.row(0) - n.row(0) * t.row(2);
   b.row(2) = n.row(0) * t.row(1) - n.row(1) * t.row(0);
-  // Degenerate: no normal, or a reference direction (nearly) along the normal.
-  flat = !(length2 > 0) || !(tangent2 > 1e-24 * reference2);
+  // Degenerate: no normal, or a reference direction (nearly) along the normal. A bitwise |,
+  // so that the tests run over the whole block as vectors (|| made them a branch per slot).
+  for (int j = 0; j < kBlock; ++j) flat[j] = !(length2[j] > 0) | !(tangent2[j] > 1e-24 * reference2[j]);
 }
 
 void NormalDetail::reconstruct(const Eigen::Ref<const Eigen::Matrix3Xd>& base, Eigen::Ref<Eigen::Matrix3Xd> out,

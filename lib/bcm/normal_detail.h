@@ -89,7 +89,10 @@ private:
   Rows3 coefficients_;                    // per detail slot
   // Scratch, sized once.
   mutable Eigen::Matrix3Xd positions_;    // per slot
-  mutable Eigen::Matrix3Xd face_normals_;
+  // Rows x, y, z and a zero: each face normal is one aligned 4-wide load, and the sum
+  // around a vertex one 4-wide add per triangle: the same additions, coordinate by
+  // coordinate, as with three scalars, in about half the instructions.
+  mutable Eigen::Matrix4Xd face_normals_;
   mutable Eigen::Matrix3Xd results_;      // per detail slot
 };
 
