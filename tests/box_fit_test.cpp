@@ -10,6 +10,7 @@
 #include "common/errors.h"
 #include "test_meshes.h"
 #include "warp/box_fit.h"
+#include "warp/lattice.h"
 
 namespace ffd {
 namespace {
@@ -94,6 +95,41 @@ TEST(BoxFit, HugeAndTinyFiniteCoordinatesNeitherCrashNorMisbehave) {
   flat.row(2).setZero();
   EXPECT_GT(std::abs(fit_principal_box(flat, {}, 0).axes().determinant()), 0);
   EXPECT_GT(std::abs(fit_principal_box(flat.leftCols(1), {}, 0).axes().determinant()), 0);
+}
+
+// The lattice step's vertices_inside() skips its count when the bounds' two corners lie in an
+// axis-aligned box fitted around them. Box coordinates never decrease as a world coordinate
+// grows, so then every point is inside: check it against the count, at padding 0 (the
+// tightest) and where rounding puts extreme points outside (far from the origin, tiny).
+TEST(BoxFit, EveryPointIsInsideAnAxisAlignedBoxHoldingItsBoundsCorners) {
+  std::vector<Eigen::Matrix3Xd> sets;
+  for (double scale : {1.0, 1e34, 1e-30}) sets.push_back(test::bunny().positions() * scale);
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (double offset : {1e8, -3e12, 0.1})
+    for (double spread : {1e-3, 1e-7, 1.0}) {
+      if (std::abs(offset) * 1e-16 > 1e-3 * spread) continue;  // no box: min and max round together
+      Eigen::Matrix3Xd p(3, 2000);
+      for (Eigen::Index i = 0; i < p.cols(); ++i)
+        for (int a = 0; a < 3; ++a) p(a, i) = offset + spread * unit(random);
+      sets.push_back(p);
+    }
+  int skipped = 0, counted = 0;
+  for (const Eigen::Matrix3Xd& p : sets)
+    for (double padding : {0.0, 1e-12, 0.05}) {
+      const PointBounds bounds = point_bounds(p, {});
+      const Parallelepiped box = aabb_around(bounds, padding);
+      long inside = 0;
+      for (Eigen::Index i = 0; i < p.cols(); ++i) inside += Lattice::inside(box.to_local(p.col(i)));
+      if (Lattice::inside(box.to_local(bounds.lo)) && Lattice::inside(box.to_local(bounds.hi))) {
+        ++skipped;
+        EXPECT_EQ(inside, p.cols()) << "padding " << padding << ", first point " << p.col(0).transpose();
+      } else {
+        ++counted;
+      }
+    }
+  EXPECT_GT(skipped, 0);
+  EXPECT_GT(counted, 0);  // the far, tiny sets at padding 0 need the count
 }
 
 }  // namespace

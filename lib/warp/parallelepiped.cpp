@@ -40,18 +40,23 @@ Parallelepiped Parallelepiped::from_min_max(const Eigen::Vector3d& min, const Ei
   return Parallelepiped(min, size.asDiagonal());
 }
 
-Parallelepiped fit_aabb(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
-                        const std::vector<std::uint32_t>& ids, double padding) {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+PointBounds point_bounds(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const std::vector<std::uint32_t>& ids) {
+  PointBounds b{Eigen::Vector3d::Constant(INFINITY), Eigen::Vector3d::Constant(-INFINITY)};
   const auto grow = [&](Eigen::Index i) {
-    lo = lo.cwiseMin(points.col(i));
-    hi = hi.cwiseMax(points.col(i));
+    b.lo = b.lo.cwiseMin(points.col(i));
+    b.hi = b.hi.cwiseMax(points.col(i));
   };
   if (ids.empty())
     for (Eigen::Index i = 0; i < points.cols(); ++i) grow(i);
   else
     for (std::uint32_t i : ids) grow(i);
-  if (!(lo.array() <= hi.array()).all()) throw InputError("cannot fit a box to an empty set of points");
+  if (!(b.lo.array() <= b.hi.array()).all()) throw InputError("cannot fit a box to an empty set of points");
+  return b;
+}
+
+Parallelepiped aabb_around(const PointBounds& bounds, double padding) {
+  const Eigen::Vector3d& lo = bounds.lo;
+  const Eigen::Vector3d& hi = bounds.hi;
   const double largest = (hi - lo).maxCoeff();
   // A single point or a degenerate set gets a unit-free minimum so the box is solid.
   const double pad = largest > 0 ? padding * largest : (padding > 0 ? padding : 1e-6);
@@ -60,6 +65,11 @@ Parallelepiped fit_aabb(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
   size = size.cwiseMax(min_extent);
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
   return Parallelepiped::from_min_max(centre - 0.5 * size, centre + 0.5 * size);
+}
+
+Parallelepiped fit_aabb(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                        const std::vector<std::uint32_t>& ids, double padding) {
+  return aabb_around(point_bounds(points, ids), padding);
 }
 
 }  // namespace ffd

@@ -35,9 +35,20 @@ private:
   Eigen::Matrix3d inverse_ = Eigen::Matrix3d::Identity();
 };
 
-/// The axis-aligned bounding box of the columns of `points` listed in `ids` (all when
-/// empty), grown by `padding` × its largest extent on every side, so that a flat mesh
-/// still gets a solid box. \throw InputError when there are no points.
+/// The componentwise least and greatest coordinates of a set of points.
+struct PointBounds {
+  Eigen::Vector3d lo, hi;
+};
+
+/// The bounds of the columns of `points` listed in `ids` (all when empty).
+/// \throw InputError when there are no points.
+PointBounds point_bounds(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const std::vector<std::uint32_t>& ids);
+
+/// The axis-aligned box around `bounds`, grown by `padding` × its largest extent on every
+/// side, so that a flat mesh still gets a solid box.
+Parallelepiped aabb_around(const PointBounds& bounds, double padding);
+
+/// aabb_around(point_bounds(points, ids), padding).
 Parallelepiped fit_aabb(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                         const std::vector<std::uint32_t>& ids, double padding);
 
