@@ -5,6 +5,10 @@
 
 #if defined(__linux__)
 #include <sys/mman.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <fstream>
 #endif
 
 namespace ffd {
@@ -15,6 +19,23 @@ namespace {
 constexpr std::size_t kMapped = std::size_t{64} << 10;
 
 }  // namespace
+
+bool reserving_is_free(std::size_t bytes) {
+#if defined(__linux__)
+  for (int resource : {RLIMIT_AS, RLIMIT_DATA}) {
+    rlimit limit{};
+    if (getrlimit(resource, &limit) != 0 || limit.rlim_cur != RLIM_INFINITY) return false;
+  }
+  int mode = -1;
+  std::ifstream("/proc/sys/vm/overcommit_memory") >> mode;
+  if (mode != 0 && mode != 1) return false;
+  const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
+  return static_cast<double>(bytes) <= memory / 4;
+#else
+  (void)bytes;
+  return false;
+#endif
+}
 
 void* allocate_zeroed(std::size_t bytes) {
 #if defined(__linux__)

@@ -13,6 +13,12 @@
 
 namespace ffd {
 
+/// Whether reserving `bytes` more than a program writes costs it nothing but unused
+/// addresses: on Linux, when no limit counts its address space or data (RLIMIT_AS,
+/// RLIMIT_DATA), the kernel does not charge untouched memory (vm.overcommit_memory is not
+/// 2, strict), and `bytes` is at most a quarter of the machine's memory. Elsewhere false.
+bool reserving_is_free(std::size_t bytes);
+
 /// `bytes` of zero bits: fresh pages when large; free with free_zeroed.
 void* allocate_zeroed(std::size_t bytes);
 void free_zeroed(void* p, std::size_t bytes) noexcept;
