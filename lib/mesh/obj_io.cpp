@@ -401,23 +401,55 @@ void put_vertices(TextSink& out, const Mesh& mesh, VertexColors colors) {
   const ConstVec3Array p = mesh.positions();
   const ObjSource* extra = mesh.obj_source();
   const std::vector<double>* w = extra && !extra->w.empty() && !colors ? &extra->w : nullptr;
-  for (Eigen::Index i = 0; i < p.cols(); ++i) {
-    out.put('v');
+  put_ordered(out, 0, static_cast<std::size_t>(p.cols()), [&](TextSink& line, std::size_t i) {
+    line.put('v');
     for (int k = 0; k < 3; ++k) {
-      out.put(' ');
-      out.number(p(k, i));
+      line.put(' ');
+      line.number(p(k, static_cast<Eigen::Index>(i)));
     }
     if (colors)
       for (int k = 0; k < 3; ++k) {
-        out.put(' ');
-        out.number((*colors)[static_cast<std::size_t>(i)][k]);
+        line.put(' ');
+        line.number((*colors)[i][k]);
       }
-    if (w && !std::isnan((*w)[static_cast<std::size_t>(i)])) {
-      out.put(' ');
-      out.number((*w)[static_cast<std::size_t>(i)]);
+    if (w && !std::isnan((*w)[i])) {
+      line.put(' ');
+      line.number((*w)[i]);
     }
-    out.put('\n');
+    line.put('\n');
+  });
+}
+
+// Whether a kept statement sits between two elements (not before the vertices, nor after
+// the last element): then the elements are written in one pass that keeps them in place.
+bool statements_between_elements(const ObjSource* extra, std::size_t elements) {
+  if (!extra) return false;
+  for (const ObjSource::Statement& s : extra->statements)
+    if (!s.before_vertices && s.before_element < elements) return true;
+  return false;
+}
+
+// The f, l and p lines, with the o/g/usemtl/s changes between them and the kept statements.
+void put_elements(TextSink& out, const Mesh& mesh, const std::vector<std::int64_t>& corner_vn, std::size_t& next) {
+  const MeshElements& el = mesh.elements();
+  const ObjSource* extra = mesh.obj_source();
+  static const ObjState none;
+  const auto state = [&](std::int32_t g) -> const ObjState& { return g >= 0 ? mesh.groups()[g] : none; };
+  // Element e's lines: the state change from element e - 1's group (none before the first).
+  const auto element = [&](TextSink& line, std::size_t e) {
+    const std::int32_t g = el.group(e), before = e > 0 ? el.group(e - 1) : -1;
+    if (g != before) put_state_change(line, state(before), state(g));
+    put_element(line, el, e, corner_vn);
+  };
+  if (statements_between_elements(extra, el.size())) {
+    for (std::size_t e = 0; e < el.size(); ++e) {
+      put_statements(out, extra, e, next);
+      element(out, e);
+    }
+  } else {
+    put_ordered(out, 0, el.size(), element);
   }
+  put_statements(out, extra, el.size(), next);
 }
 
 }  // namespace
@@ -442,19 +474,7 @@ void write_obj(std::ostream& os, const Mesh& mesh, const NormalTransform& transf
   const CornerNormals normals = transformed_file_normals(mesh, transform_normal);
   for (const Eigen::Vector3d& n : normals.table) put_vector_line(out, "vn", n);
 
-  const MeshElements& el = mesh.elements();
-  static const ObjState none;
-  std::int32_t current = -1;  // the group in force: none until a statement sets one
-  for (std::size_t e = 0; e < el.size(); ++e) {
-    put_statements(out, extra, e, next);
-    const std::int32_t g = el.group(e);
-    if (g != current) {
-      put_state_change(out, current >= 0 ? mesh.groups()[current] : none, g >= 0 ? mesh.groups()[g] : none);
-      current = g;
-    }
-    put_element(out, el, e, normals.corner);
-  }
-  put_statements(out, extra, el.size(), next);
+  put_elements(out, mesh, normals.corner, next);
   out.flush();
 }
 

@@ -267,37 +267,38 @@ void write_off(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* norma
   out.integer(mesh.num_faces());
   out.put(" 0\n");
   const ConstVec3Array p = mesh.positions();
-  for (Eigen::Index i = 0; i < p.cols(); ++i) {
+  put_ordered(out, 0, static_cast<std::size_t>(p.cols()), [&](TextSink& line, std::size_t v) {
+    const auto i = static_cast<Eigen::Index>(v);
     for (int k = 0; k < 3; ++k) {
-      if (k) out.put(' ');
-      out.number(p(k, i));
+      if (k) line.put(' ');
+      line.number(p(k, i));
     }
     if (normals)
       for (int k = 0; k < 3; ++k) {
-        out.put(' ');
-        out.number((*normals)(k, i));
+        line.put(' ');
+        line.number((*normals)(k, i));
       }
     if (colors) {
       // Integers 0..255, the common COFF form, so readers never guess the scale.
-      const Eigen::Vector3f& c = (*colors)[static_cast<std::size_t>(i)];
+      const Eigen::Vector3f& c = (*colors)[v];
       for (int k = 0; k < 3; ++k) {
-        out.put(' ');
-        out.integer(std::uint32_t{color_byte(c[k])});
+        line.put(' ');
+        line.integer(std::uint32_t{color_byte(c[k])});
       }
-      out.put(" 255");
+      line.put(" 255");
     }
-    out.put('\n');
-  }
+    line.put('\n');
+  });
   const MeshElements& el = mesh.elements();
-  for (std::size_t f = 0; f < el.size(); ++f) {
-    if (el.kinds[f] != ElementKind::Polygon) continue;  // refused before writing (check_writable)
-    out.integer(el.degree(f));
+  put_ordered(out, 0, el.size(), [&](TextSink& line, std::size_t f) {
+    if (el.kinds[f] != ElementKind::Polygon) return;  // refused before writing (check_writable)
+    line.integer(el.degree(f));
     for (std::uint32_t c = el.begin(f); c < el.end(f); ++c) {
-      out.put(' ');
-      out.integer(el.corners[c]);
+      line.put(' ');
+      line.integer(el.corners[c]);
     }
-    out.put('\n');
-  }
+    line.put('\n');
+  });
   out.flush();
 }
 
