@@ -46,8 +46,9 @@ std::string ordered_text(std::size_t first, std::size_t last) {
 }
 
 TEST(PutOrdered, WritesTheSameBytesWhateverTheThreadCount) {
-  for (const auto& [first, last] : std::vector<std::pair<std::size_t, std::size_t>>{
+  for (const auto& range : std::vector<std::pair<std::size_t, std::size_t>>{
            {0, 0}, {0, 1}, {0, 16383}, {0, 16384}, {5, 4096 * 7 + 5}, {0, 4096 * 9 + 1}, {3, 100003}}) {
+    const std::size_t first = range.first, last = range.second;  // (a lambda cannot capture a binding in C++17)
     SCOPED_TRACE(std::to_string(first) + ".." + std::to_string(last));
     const std::string one = with_threads(1, [&] { return ordered_text(first, last); });
     EXPECT_EQ(one.substr(0, 5), "head\n");
