@@ -223,7 +223,7 @@ bool read_face_fast(std::string_view line, std::int32_t group, std::size_t n, Po
 // the last line 7), so (size + 1) / 8 lines of each bound them. Where unused reserved
 // memory costs nothing (reserving_is_free: no address-space limit, no strict commit) that
 // bound is reserved as is, with no pass over the text: on a 1M-vertex file read_ms
-// 243 -> 218. Elsewhere the lines are counted in one pass (17 ms on that file) and exactly
+// 232 -> 211. Elsewhere the lines are counted in one pass (17 ms on that file) and exactly
 // those reserved, so that a limit refuses no file it would take with exact arrays; junk
 // input ("v \nv \n...") then reserves no more than the same bytes of valid lines need.
 void reserve_for(std::string_view text, PolygonSoup& soup) {
