@@ -44,17 +44,21 @@ TEST(ObjReserve, ReadsTheSameSoupWhetherItReservesTheBoundOrCountsLines) {
     getrlimit(RLIMIT_DATA, &limit);
     limit.rlim_cur = limit.rlim_max == RLIM_INFINITY ? RLIM_INFINITY - 1 : limit.rlim_max;
     if (setrlimit(RLIMIT_DATA, &limit) != 0 || reserving_is_free(1)) _exit(3);
-    for (std::size_t i = 0; i < inputs.size(); ++i) {
-      const PolygonSoup counted = read_obj(inputs[i], "in.obj");
-      if (!same_soup(counted, here[i])) _exit(4);
-      if (counted.positions.capacity() != counted.positions.size()) _exit(5);
+    try {
+      for (std::size_t i = 0; i < inputs.size(); ++i) {
+        const PolygonSoup counted = read_obj(inputs[i], "in.obj");
+        if (!same_soup(counted, here[i])) _exit(4);
+        if (counted.positions.capacity() != counted.positions.size()) _exit(5);
+      }
+    } catch (...) {
+      _exit(6);
     }
     _exit(0);
   }
   int status = 0;
   ASSERT_EQ(waitpid(child, &status, 0), child);
   ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: the limit did not make reservations costly; 4: another soup; 5: not counted";
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: the limit did not make reservations costly; 4: another soup; 5: not counted; 6: the read threw";
 }
 
 TEST(ObjReserve, ReservingIsNotFreeBeyondAQuarterOfTheMachinesMemory) {
