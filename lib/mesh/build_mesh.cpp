@@ -23,12 +23,9 @@ bool all_below(const std::vector<T>& values, std::int64_t limit) {
 // bad element.
 bool elements_valid(const PolygonSoup& soup) {
   const MeshElements& el = soup.elements;
-  bool rising = el.offsets.size() == el.size() + 1 && el.offsets.back() == el.corners.size();
-  for (std::size_t e = 0; rising && e < el.size(); e += 4096) {
-    bool block = true;
-    for (std::size_t f = e; f < std::min(e + 4096, el.size()); ++f) block &= el.offsets[f] < el.offsets[f + 1];
-    rising = block;
-  }
+  if (el.offsets.size() != el.size() + 1 || el.offsets.back() != el.corners.size()) return false;
+  bool rising = true;
+  for (std::size_t e = 0; e < el.size(); ++e) rising &= el.offsets[e] < el.offsets[e + 1];
   return rising && all_below(el.corners, static_cast<std::int64_t>(soup.positions.size())) &&
          all_below(el.corner_uvs, static_cast<std::int64_t>(soup.uvs.size())) &&
          all_below(el.corner_normals, static_cast<std::int64_t>(soup.normals.size())) &&
