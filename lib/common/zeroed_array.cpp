@@ -1,6 +1,8 @@
 #include "common/zeroed_array.h"
 
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <new>
 
 #if defined(__linux__)
@@ -48,6 +50,24 @@ void* allocate_zeroed(std::size_t bytes) {
   void* p = std::calloc(bytes, 1);
   if (!p) throw std::bad_alloc();
   return p;
+}
+
+void zero_bits(void* p, std::size_t bytes) {
+#if defined(__linux__)
+  if (bytes >= kMapped) {
+    const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+    const auto first = reinterpret_cast<std::uintptr_t>(p), last = first + bytes;
+    const std::uintptr_t inner_first = (first + page - 1) & ~(page - 1), inner_last = last & ~(page - 1);
+    // Private anonymous memory (malloc's) reads as zero pages after MADV_DONTNEED. Where
+    // the advice is refused (hugetlb pages, other mappings), the bytes are written.
+    if (::madvise(reinterpret_cast<void*>(inner_first), inner_last - inner_first, MADV_DONTNEED) == 0) {
+      std::memset(p, 0, inner_first - first);
+      std::memset(reinterpret_cast<void*>(inner_last), 0, last - inner_last);
+      return;
+    }
+  }
+#endif
+  std::memset(p, 0, bytes);
 }
 
 void free_zeroed(void* p, std::size_t bytes) noexcept {

@@ -19,6 +19,12 @@ namespace ffd {
 /// 2, strict), and `bytes` is at most a quarter of the machine's memory. Elsewhere false.
 bool reserving_is_free(std::size_t bytes);
 
+/// Sets `bytes` at p (memory from malloc or new) to zero bits. Large ranges give their
+/// whole pages back to the kernel instead of writing them, so that a zero array nobody
+/// reads costs no memory and no page faults (a run's deferred normals: 48 MB on a
+/// 1M-vertex mesh): they fault in as zero pages when touched.
+void zero_bits(void* p, std::size_t bytes);
+
 /// `bytes` of zero bits: fresh pages when large; free with free_zeroed.
 void* allocate_zeroed(std::size_t bytes);
 void free_zeroed(void* p, std::size_t bytes) noexcept;

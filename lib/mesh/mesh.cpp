@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/errors.h"
+#include "common/zeroed_array.h"
 #include "mesh/vertex_colors.h"
 #include "mesh/vertex_normals.h"
 
@@ -39,6 +40,9 @@ void resize_array(Eigen::Matrix3Xd& m, std::size_t count, const Eigen::Vector3d&
   if (n > old) m.rightCols(n - old).colwise() = fallback;
 }
 
+// Zeros m without writing its pages where it is large (zero_bits).
+void set_zero(Eigen::Matrix3Xd& m) { zero_bits(m.data(), static_cast<std::size_t>(m.size()) * sizeof(double)); }
+
 template <class T>
 void resize_array(std::vector<T>& v, std::size_t count, const T& fallback) {
   v.resize(count, fallback);
@@ -57,9 +61,11 @@ void Mesh::set_vertices(Eigen::Matrix3Xd positions, bool normals) {
   rest_ = positions;
   pos_ = std::move(positions);
   if (!normals) {
-    rest_normal_ = Eigen::Matrix3Xd::Zero(3, pos_.cols());
+    rest_normal_.resize(3, pos_.cols());
+    normal_.resize(3, pos_.cols());
+    set_zero(rest_normal_);
+    set_zero(normal_);
     resize_vertices(num_vertices());
-    normal_ = rest_normal_;
     normals_deferred_ = true;
     return;
   }
@@ -70,7 +76,10 @@ void Mesh::set_vertices(Eigen::Matrix3Xd positions, bool normals) {
 
 Vec3Array Mesh::vec3_attribute(const std::string& name) {
   auto [it, created] = attributes_.try_emplace(name);
-  if (created) it->second = Eigen::Matrix3Xd::Zero(3, pos_.cols());
+  if (created) {
+    it->second.resize(3, pos_.cols());
+    set_zero(it->second);
+  }
   return map(it->second);
 }
 
