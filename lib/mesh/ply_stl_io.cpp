@@ -121,31 +121,45 @@ void write_ply(std::ostream& os, const Mesh& mesh, const Eigen::Matrix3Xd* norma
   const bool wide = max_degree(el) > 255;
   const std::vector<Eigen::Vector2d> uvs = vertex_uvs(mesh);
   put_ply_header(out, mesh, normals != nullptr, colors != nullptr, !uvs.empty(), binary, wide);
-  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(mesh.num_vertices()); ++i)
-    put_ply_vertex(out, mesh, i, normals, colors, uvs, binary);
-  for (std::size_t f = 0; f < el.size(); ++f)
-    if (el.kinds[f] == ElementKind::Polygon) put_ply_face(out, el, f, binary, wide);  // others: check_writable
+  // Text is formatted by the team in order (put_ordered); binary values are copies already.
+  const auto vertex = [&](TextSink& sink, std::size_t i) {
+    put_ply_vertex(sink, mesh, static_cast<Eigen::Index>(i), normals, colors, uvs, binary);
+  };
+  const auto face = [&](TextSink& sink, std::size_t f) {
+    if (el.kinds[f] == ElementKind::Polygon) put_ply_face(sink, el, f, binary, wide);  // others: check_writable
+  };
+  if (binary) {
+    for (std::size_t i = 0; i < mesh.num_vertices(); ++i) vertex(out, i);
+    for (std::size_t f = 0; f < el.size(); ++f) face(out, f);
+  } else {
+    put_ordered(out, 0, mesh.num_vertices(), vertex);
+    put_ordered(out, 0, el.size(), face);
+  }
   out.flush();
 }
 
 namespace {
 
-// Calls fn(corners, unit normal) for each triangle of the polygons' fans (STL holds only
-// triangles), in element order; a degenerate triangle's normal is zero.
+// Calls fn(corners, unit normal) for each triangle of element f's fan (STL holds only
+// triangles; a line or point has none); a degenerate triangle's normal is zero.
 template <class Fn>
-void for_each_fan(const Mesh& mesh, Fn fn) {
+void for_each_fan_triangle(const Mesh& mesh, std::size_t f, Fn fn) {
   const ConstVec3Array p = mesh.positions();
   const MeshElements& el = mesh.elements();
-  for (std::size_t f = 0; f < el.size(); ++f) {
-    if (el.kinds[f] != ElementKind::Polygon) continue;
-    const std::uint32_t* ids = el.vertices(f);
-    for (std::size_t i = 1; i + 1 < el.degree(f); ++i) {
-      const Eigen::Vector3d corners[3] = {p.col(ids[0]), p.col(ids[i]), p.col(ids[i + 1])};
-      Eigen::Vector3d n = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-      if (n.norm() > 0) n.normalize();
-      fn(corners, n);
-    }
+  if (el.kinds[f] != ElementKind::Polygon) return;
+  const std::uint32_t* ids = el.vertices(f);
+  for (std::size_t i = 1; i + 1 < el.degree(f); ++i) {
+    const Eigen::Vector3d corners[3] = {p.col(ids[0]), p.col(ids[i]), p.col(ids[i + 1])};
+    Eigen::Vector3d n = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+    if (n.norm() > 0) n.normalize();
+    fn(corners, n);
   }
+}
+
+// The same for every element, in element order.
+template <class Fn>
+void for_each_fan(const Mesh& mesh, Fn fn) {
+  for (std::size_t f = 0; f < mesh.elements().size(); ++f) for_each_fan_triangle(mesh, f, fn);
 }
 
 // Binary STL: an 80-byte header (not starting with "solid", which would read as ASCII),
@@ -169,15 +183,15 @@ void write_binary_stl(TextSink& out, const Mesh& mesh) {
   });
 }
 
-void write_ascii_stl(TextSink& out, const Mesh& mesh) {
-  out.put("solid ffdtool\n");
+// Element f's facets (put_ordered formats the elements in order, by the team).
+void put_ascii_facets(TextSink& out, const Mesh& mesh, std::size_t f) {
   const auto put_vec = [&out](const Eigen::Vector3d& v) {
     for (int k = 0; k < 3; ++k) {
       out.put(' ');
       out.number(v[k]);
     }
   };
-  for_each_fan(mesh, [&](const Eigen::Vector3d* corners, const Eigen::Vector3d& n) {
+  for_each_fan_triangle(mesh, f, [&](const Eigen::Vector3d* corners, const Eigen::Vector3d& n) {
     out.put("facet normal");
     put_vec(n);
     out.put("\n outer loop\n  vertex");
@@ -188,6 +202,12 @@ void write_ascii_stl(TextSink& out, const Mesh& mesh) {
     put_vec(corners[2]);
     out.put("\n endloop\nendfacet\n");
   });
+}
+
+void write_ascii_stl(TextSink& out, const Mesh& mesh) {
+  out.put("solid ffdtool\n");
+  put_ordered(out, 0, mesh.elements().size(),
+              [&mesh](TextSink& sink, std::size_t f) { put_ascii_facets(sink, mesh, f); });
   out.put("endsolid ffdtool\n");
 }
 
