@@ -1,5 +1,5 @@
 // put_ordered: the writers' lines formatted by a team in blocks and written in order, the
-// same bytes whatever the thread count; and the OBJ and OFF writers through it.
+// same bytes whatever the thread count; and the OBJ, OFF, PLY and STL text writers through it.
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -127,17 +127,21 @@ std::string big_obj(bool statement_between) {
 
 std::string written(const Mesh& mesh, const std::string& format) {
   std::ostringstream os;
-  write_mesh(os, format == "obj" ? MeshFormat::Obj : MeshFormat::Off, mesh);
+  const MeshFormat kind = format == "obj"   ? MeshFormat::Obj
+                          : format == "off" ? MeshFormat::Off
+                          : format == "ply" ? MeshFormat::Ply
+                                            : MeshFormat::Stl;
+  write_mesh(os, kind, mesh);  // PLY and STL in ASCII, as the OBJ source is
   return os.str();
 }
 
-TEST(PutOrdered, ObjAndOffWritersGiveTheSameFileWhateverTheThreadCount) {
+TEST(PutOrdered, TextWritersGiveTheSameFileWhateverTheThreadCount) {
   for (bool between : {false, true}) {
     SCOPED_TRACE(between);
     const std::string text = big_obj(between);
     const Mesh mesh = build_mesh(read_obj(text, "big.obj"), "big.obj");
     ASSERT_EQ(mesh.num_vertices(), 40000u);
-    for (const std::string format : {"obj", "off"}) {
+    for (const std::string format : {"obj", "off", "ply", "stl"}) {
       const std::string one = with_threads(1, [&] { return written(mesh, format); });
       for (int threads : {2, 3})  // (EXPECT_TRUE: a failed EXPECT_EQ would diff megabytes)
         EXPECT_TRUE(with_threads(threads, [&] { return written(mesh, format); }) == one) << format << ' ' << threads;
