@@ -124,7 +124,7 @@ Mesh read_mesh(const std::string& path, bool defer_normals) {
   PolygonSoup soup;
   switch (format) {
     case MeshFormat::Obj:
-      soup = read_obj(text, path);
+      soup = read_obj(text, path, [&bytes] { bytes.release_pages(); });
       break;
     case MeshFormat::Off:
       soup = read_off(text, path);

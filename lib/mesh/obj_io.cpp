@@ -1,13 +1,17 @@
 #include "mesh/obj_io.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <charconv>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include "common/errors.h"
 #include "common/numbers.h"
 #include "common/zeroed_array.h"
+#include "mesh/obj_chunks.h"
 #include "mesh/obj_source.h"
 #include "mesh/text_lines.h"
 #include "mesh/text_sink.h"
@@ -313,7 +317,22 @@ void read_statement(std::string_view line, const std::vector<std::string_view>& 
   }
 }
 
-PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool fast) {
+// Plain files from this size on are parsed in chunks by the team (obj_chunks.h).
+constexpr std::size_t kChunkedBytes = std::size_t{4} << 20;
+
+// Whether read_obj tries the parallel path: more than one thread, not already inside a
+// team, a large text, and room for every chunk's lines that costs nothing unused.
+bool read_in_chunks(std::string_view text) {
+  const std::size_t line_bytes = sizeof(Eigen::Vector3d) + sizeof(ElementKind) + 5 * sizeof(std::uint32_t);
+  return omp_get_max_threads() > 1 && !omp_in_parallel() && text.size() >= kChunkedBytes &&
+         reserving_is_free(2 * ((text.size() + 1) / 8) * line_bytes);
+}
+
+PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool fast,
+                           const std::function<void()>& release_text = {}) {
+  if (fast && read_in_chunks(text))
+    if (std::optional<PolygonSoup> soup = read_plain_obj_in_chunks(text, omp_get_max_threads(), release_text))
+      return std::move(*soup);
   PolygonSoup soup;
   reserve_for(text, soup);
   LineScanner lines(text);
@@ -335,12 +354,17 @@ PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool 
     if (!tokens.empty()) read_statement(line, tokens, file, n, soup, state);
   }
   if (!state.extra.empty()) soup.obj = std::make_shared<const ObjSource>(std::move(state.extra));
+  if (release_text) release_text();  // the soup and the kept statements are copies
   return soup;
 }
 
 }  // namespace
 
 PolygonSoup read_obj(std::string_view text, const std::string& file) { return read_obj_lines(text, file, true); }
+
+PolygonSoup read_obj(std::string_view text, const std::string& file, const std::function<void()>& release_text) {
+  return read_obj_lines(text, file, true, release_text);
+}
 
 PolygonSoup read_obj_general(std::string_view text, const std::string& file) {
   return read_obj_lines(text, file, false);

@@ -9,6 +9,7 @@
 // tinyobjloader stays as the independent reference our tests compare against.
 #pragma once
 
+#include <functional>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -26,6 +27,9 @@ namespace ffd {
 /// \throw InputError "file:line: what was expected" on any malformed line (NaN/inf,
 /// indices out of range, a statement keyword that is not a word).
 PolygonSoup read_obj(std::string_view text, const std::string& file);
+/// The same, calling `release_text` where the reader no longer needs the text, before it
+/// builds its arrays from what it parsed (read_mesh gives a mapped file's pages back there).
+PolygonSoup read_obj(std::string_view text, const std::string& file, const std::function<void()>& release_text);
 
 /// read_obj without its fast path for `v` and `f` lines: every line through the general
 /// tokenizing reader. The same soup, or the same error, as read_obj on any text; kept as

@@ -1,13 +1,17 @@
 // The OBJ and OFF readers' fast paths against their general paths (read_obj against
 // read_obj_general, read_off against read_off_general): on any bytes, the same soup or
-// the same error message. Shared by the obj and off fuzz targets and the ctests.
+// the same error message; and the OBJ reader's parallel path for plain files
+// (read_plain_obj_in_chunks), which on any bytes declines or reads what the general path
+// reads. Shared by the obj and off fuzz targets and the ctests.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 
 #include "common/errors.h"
+#include "mesh/obj_chunks.h"
 #include "mesh/obj_io.h"
 #include "mesh/off_io.h"
 
@@ -45,7 +49,28 @@ void check_paths_agree(std::string_view bytes, Reader fast_reader, Reader genera
   if (!same_soup(fast, general)) throw std::logic_error("the fast and the general path read different soups");
 }
 
-inline void check_obj_paths_agree(std::string_view bytes) { check_paths_agree(bytes, &read_obj, &read_obj_general); }
+/// read_plain_obj_in_chunks on `bytes` with 1 to 3 threads (2 to 6 chunks). \throw
+/// std::logic_error if it reads a soup where the general path refuses the bytes or reads
+/// another soup (or keeps statements, which the parallel path never does).
+inline void check_obj_chunks_agree(std::string_view bytes) {
+  for (int threads = 1; threads <= 3; ++threads) {
+    const std::optional<PolygonSoup> chunked = read_plain_obj_in_chunks(bytes, threads);
+    if (!chunked) continue;
+    PolygonSoup general;
+    try {
+      general = read_obj_general(bytes, "fuzz");
+    } catch (const InputError& e) {
+      throw std::logic_error(std::string("the parallel path read what the general path refuses: ") + e.what());
+    }
+    if (!same_soup(*chunked, general) || general.obj || chunked->obj)
+      throw std::logic_error("the parallel and the general path read different soups");
+  }
+}
+
+inline void check_obj_paths_agree(std::string_view bytes) {
+  check_obj_chunks_agree(bytes);
+  check_paths_agree(bytes, &read_obj, &read_obj_general);
+}
 inline void check_off_paths_agree(std::string_view bytes) { check_paths_agree(bytes, &read_off, &read_off_general); }
 
 }  // namespace ffd::fuzz
