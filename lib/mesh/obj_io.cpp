@@ -13,6 +13,7 @@
 #include "common/zeroed_array.h"
 #include "mesh/obj_chunks.h"
 #include "mesh/obj_source.h"
+#include "mesh/soup_chunks.h"
 #include "mesh/text_lines.h"
 #include "mesh/text_sink.h"
 
@@ -317,15 +318,11 @@ void read_statement(std::string_view line, const std::vector<std::string_view>& 
   }
 }
 
-// Plain files from this size on are parsed in chunks by the team (obj_chunks.h).
-constexpr std::size_t kChunkedBytes = std::size_t{4} << 20;
-
-// Whether read_obj tries the parallel path: more than one thread, not already inside a
-// team, a large text, and room for every chunk's lines that costs nothing unused.
+// Whether read_obj tries the parallel path (obj_chunks.h): its chunks reserve room for
+// twice the lines reserve_for does.
 bool read_in_chunks(std::string_view text) {
   const std::size_t line_bytes = sizeof(Eigen::Vector3d) + sizeof(ElementKind) + 5 * sizeof(std::uint32_t);
-  return omp_get_max_threads() > 1 && !omp_in_parallel() && text.size() >= kChunkedBytes &&
-         reserving_is_free(2 * ((text.size() + 1) / 8) * line_bytes);
+  return worth_reading_in_chunks(text.size(), 2 * ((text.size() + 1) / 8) * line_bytes);
 }
 
 PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool fast,

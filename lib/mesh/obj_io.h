@@ -29,6 +29,7 @@ namespace ffd {
 PolygonSoup read_obj(std::string_view text, const std::string& file);
 /// The same, calling `release_text` where the reader no longer needs the text, before it
 /// builds its arrays from what it parsed (read_mesh gives a mapped file's pages back there).
+/// An OBJ of plain geometry from 4 MB on is parsed by the team in chunks (obj_chunks.h).
 PolygonSoup read_obj(std::string_view text, const std::string& file, const std::function<void()>& release_text);
 
 /// read_obj without its fast path for `v` and `f` lines: every line through the general
