@@ -127,7 +127,7 @@ Mesh read_mesh(const std::string& path, bool defer_normals) {
       soup = read_obj(text, path, [&bytes] { bytes.release_pages(); });
       break;
     case MeshFormat::Off:
-      soup = read_off(text, path);
+      soup = read_off(text, path, [&bytes] { bytes.release_pages(); });
       break;
     case MeshFormat::Ply:
       soup = read_ply(text, path);

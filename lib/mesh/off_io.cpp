@@ -1,10 +1,16 @@
 #include "mesh/off_io.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <optional>
 
 #include "common/errors.h"
 #include "common/numbers.h"
+#include "mesh/off_chunks.h"
+#include "mesh/soup_chunks.h"
 #include "mesh/text_lines.h"
 #include "mesh/text_sink.h"
 
@@ -207,7 +213,23 @@ InputError ends_early(const std::string& file, std::size_t counts_line, std::siz
                     std::to_string(promised) + " " + what + " this line promises");
 }
 
-PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool fast) {
+// The parallel path (off_chunks.h) for a plain OFF whose counts, on line counts_line, are
+// `counts`, where it is worth trying.
+std::optional<PolygonSoup> read_off_in_chunks(std::string_view text, const std::vector<std::string_view>& counts,
+                                              std::size_t counts_line, long long nv, long long nf,
+                                              const std::function<void()>& release_text) {
+  // The first chunk's room for every vertex and face, the others' for what their bytes hold.
+  const std::size_t line_bytes = sizeof(Eigen::Vector3d) + sizeof(ElementKind) + 5 * sizeof(std::uint32_t);
+  const std::size_t reserved = static_cast<std::size_t>(nv + nf) * line_bytes + text.size() * line_bytes / 6;
+  if (counts.empty() || !worth_reading_in_chunks(text.size(), reserved)) return std::nullopt;
+  const std::size_t after = static_cast<std::size_t>(counts.back().data() + counts.back().size() - text.data());
+  const std::size_t newline = text.find('\n', after);
+  if (newline == std::string_view::npos) return std::nullopt;
+  return read_plain_off_in_chunks({text.substr(newline + 1), counts_line, nv, nf}, omp_get_max_threads(), release_text);
+}
+
+PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool fast,
+                           const std::function<void()>& release_text = {}) {
   PolygonSoup soup;
   LineScanner lines(text);
   std::vector<std::string_view> t;
@@ -222,6 +244,9 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
     throw InputError(At{place(file, counts_line)}, "the counts promise " + std::to_string(nv) + " vertices and " +
                      std::to_string(nf) + " faces, more than the file's " + std::to_string(bytes) + " bytes can hold");
 
+  if (fast && !header.normal && !header.color && !header.st)
+    if (std::optional<PolygonSoup> chunked = read_off_in_chunks(text, counts, counts_line, nv, nf, release_text))
+      return std::move(*chunked);
   soup.positions.reserve(nv);
   if (header.normal) soup.normals.reserve(nv);
   soup.normals_per_vertex = header.normal;
@@ -246,12 +271,17 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
     read_face(t, header, nv, file, first, soup, corners);
   }
   if (next_tokens(lines, t)) throw InputError(At{place(file, lines.number())}, "unexpected data after the last face");
+  if (release_text) release_text();
   return soup;
 }
 
 }  // namespace
 
 PolygonSoup read_off(std::string_view text, const std::string& file) { return read_off_lines(text, file, true); }
+
+PolygonSoup read_off(std::string_view text, const std::string& file, const std::function<void()>& release_text) {
+  return read_off_lines(text, file, true, release_text);
+}
 
 PolygonSoup read_off_general(std::string_view text, const std::string& file) {
   return read_off_lines(text, file, false);

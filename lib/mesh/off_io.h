@@ -7,6 +7,7 @@
 // Write: OFF, or COFF when the mesh carries vertex colours, or NOFF with deformed normals.
 #pragma once
 
+#include <functional>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -19,6 +20,10 @@ namespace ffd {
 
 /// Parses OFF text. \throw InputError "file:line: ..." on malformed or unsupported input.
 PolygonSoup read_off(std::string_view text, const std::string& file);
+/// The same, calling `release_text` where the reader no longer needs the text, before it
+/// builds its arrays from what it parsed (read_mesh gives a mapped file's pages back there).
+/// A plain OFF from 4 MB on is parsed by the team in chunks (off_chunks.h).
+PolygonSoup read_off(std::string_view text, const std::string& file, const std::function<void()>& release_text);
 
 /// read_off without its fast path for plain vertex and face lines: every line through the
 /// general tokenizing reader. The same soup, or the same error, as read_off on any text;
