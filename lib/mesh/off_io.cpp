@@ -213,6 +213,17 @@ InputError ends_early(const std::string& file, std::size_t counts_line, std::siz
                     std::to_string(promised) + " " + what + " this line promises");
 }
 
+// The lines after the counts (`counts`, on line counts_line, views into text): none when
+// the text ends on that line.
+std::optional<OffBody> body_after(std::string_view text, const std::vector<std::string_view>& counts,
+                                  std::size_t counts_line, long long nv, long long nf) {
+  if (counts.empty()) return std::nullopt;
+  const std::size_t after = static_cast<std::size_t>(counts.back().data() + counts.back().size() - text.data());
+  const std::size_t newline = text.find('\n', after);
+  if (newline == std::string_view::npos) return std::nullopt;
+  return OffBody{text.substr(newline + 1), counts_line, nv, nf};
+}
+
 // The parallel path (off_chunks.h) for a plain OFF whose counts, on line counts_line, are
 // `counts`, where it is worth trying.
 std::optional<PolygonSoup> read_off_in_chunks(std::string_view text, const std::vector<std::string_view>& counts,
@@ -221,11 +232,30 @@ std::optional<PolygonSoup> read_off_in_chunks(std::string_view text, const std::
   // The first chunk's room for every vertex and face, the others' for what their bytes hold.
   const std::size_t line_bytes = sizeof(Eigen::Vector3d) + sizeof(ElementKind) + 5 * sizeof(std::uint32_t);
   const std::size_t reserved = static_cast<std::size_t>(nv + nf) * line_bytes + text.size() * line_bytes / 6;
-  if (counts.empty() || !worth_reading_in_chunks(text.size(), reserved)) return std::nullopt;
-  const std::size_t after = static_cast<std::size_t>(counts.back().data() + counts.back().size() - text.data());
-  const std::size_t newline = text.find('\n', after);
-  if (newline == std::string_view::npos) return std::nullopt;
-  return read_plain_off_in_chunks({text.substr(newline + 1), counts_line, nv, nf}, omp_get_max_threads(), release_text);
+  if (!worth_reading_in_chunks(text.size(), reserved)) return std::nullopt;
+  const std::optional<OffBody> body = body_after(text, counts, counts_line, nv, nf);
+  return body ? read_plain_off_in_chunks(*body, omp_get_max_threads(), release_text) : std::nullopt;
+}
+
+// The counts' line and values after the header, with the checks read_off makes on them;
+// throws as read_off does.
+struct OffCounts {
+  OffHeader header;
+  std::vector<std::string_view> counts;
+  std::size_t line = 0;
+  long long nv = 0, nf = 0;
+};
+OffCounts read_counts(std::string_view text, const std::string& file, LineScanner& lines) {
+  OffCounts c;
+  c.counts = read_header(lines, file, c.header);
+  c.line = lines.number();  // named when the file ends early
+  parse_counts(c.counts, file, c.line, c.nv, c.nf);
+  // Never trust a header: a vertex line takes at least 6 bytes ("0 0 0\n"), a face line 2.
+  const long long bytes = static_cast<long long>(text.size());
+  if (c.nv > bytes / 6 + 1 || c.nf > bytes / 2 + 1)
+    throw InputError(At{place(file, c.line)}, "the counts promise " + std::to_string(c.nv) + " vertices and " +
+                     std::to_string(c.nf) + " faces, more than the file's " + std::to_string(bytes) + " bytes can hold");
+  return c;
 }
 
 PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool fast,
@@ -233,19 +263,12 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
   PolygonSoup soup;
   LineScanner lines(text);
   std::vector<std::string_view> t;
-  OffHeader header;
-  const std::vector<std::string_view> counts = read_header(lines, file, header);
-  const std::size_t counts_line = lines.number();  // named when the file ends early
-  long long nv, nf;
-  parse_counts(counts, file, counts_line, nv, nf);
-  // Never trust a header: a vertex line takes at least 6 bytes ("0 0 0\n"), a face line 2.
-  const long long bytes = static_cast<long long>(text.size());
-  if (nv > bytes / 6 + 1 || nf > bytes / 2 + 1)
-    throw InputError(At{place(file, counts_line)}, "the counts promise " + std::to_string(nv) + " vertices and " +
-                     std::to_string(nf) + " faces, more than the file's " + std::to_string(bytes) + " bytes can hold");
-
+  const OffCounts read = read_counts(text, file, lines);
+  const OffHeader& header = read.header;
+  const std::size_t counts_line = read.line;
+  const long long nv = read.nv, nf = read.nf;
   if (fast && !header.normal && !header.color && !header.st)
-    if (std::optional<PolygonSoup> chunked = read_off_in_chunks(text, counts, counts_line, nv, nf, release_text))
+    if (std::optional<PolygonSoup> chunked = read_off_in_chunks(text, read.counts, counts_line, nv, nf, release_text))
       return std::move(*chunked);
   soup.positions.reserve(nv);
   if (header.normal) soup.normals.reserve(nv);
@@ -281,6 +304,17 @@ PolygonSoup read_off(std::string_view text, const std::string& file) { return re
 
 PolygonSoup read_off(std::string_view text, const std::string& file, const std::function<void()>& release_text) {
   return read_off_lines(text, file, true, release_text);
+}
+
+std::optional<OffBody> plain_off_body(std::string_view text) {
+  try {
+    LineScanner lines(text);
+    const OffCounts read = read_counts(text, "", lines);
+    if (read.header.normal || read.header.color || read.header.st) return std::nullopt;
+    return body_after(text, read.counts, read.line, read.nv, read.nf);
+  } catch (const InputError&) {
+    return std::nullopt;
+  }
 }
 
 PolygonSoup read_off_general(std::string_view text, const std::string& file) {

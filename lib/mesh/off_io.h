@@ -8,11 +8,13 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <string_view>
 
 #include "mesh/mesh.h"
+#include "mesh/off_chunks.h"
 #include "mesh/vertex_colors.h"
 #include "mesh/soup.h"
 
@@ -29,6 +31,11 @@ PolygonSoup read_off(std::string_view text, const std::string& file, const std::
 /// general tokenizing reader. The same soup, or the same error, as read_off on any text;
 /// the reference the fast path is tested against.
 PolygonSoup read_off_general(std::string_view text, const std::string& file);
+
+/// The lines after a plain OFF's counts (`OFF` or no keyword), with the counts, as read_off
+/// reads its header: what its parallel path (off_chunks.h) parses. std::nullopt when the
+/// header is another variant's or read_off refuses it, or nothing follows the counts.
+std::optional<OffBody> plain_off_body(std::string_view text);
 
 /// Writes `mesh`'s current positions (and `colors`, COFF) as OFF with shortest round-trip
 /// numbers; `normals` (3 × n, may be null) adds per-vertex normals (NOFF).

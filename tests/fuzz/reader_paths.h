@@ -1,8 +1,9 @@
 // The OBJ and OFF readers' fast paths against their general paths (read_obj against
 // read_obj_general, read_off against read_off_general): on any bytes, the same soup or
 // the same error message; and the OBJ reader's parallel path for plain files
-// (read_plain_obj_in_chunks), which on any bytes declines or reads what the general path
-// reads. Shared by the obj and off fuzz targets and the ctests.
+// (read_plain_obj_in_chunks) and the OFF reader's (read_plain_off_in_chunks), which on any
+// bytes decline or read what the general path reads. Shared by the obj and off fuzz
+// targets and the ctests.
 #pragma once
 
 #include <optional>
@@ -67,10 +68,32 @@ inline void check_obj_chunks_agree(std::string_view bytes) {
   }
 }
 
+/// read_plain_off_in_chunks on the body of `bytes` (plain_off_body) with 1 to 3 threads.
+/// \throw std::logic_error if it reads a soup where the general path refuses the bytes or
+/// reads another soup.
+inline void check_off_chunks_agree(std::string_view bytes) {
+  const std::optional<OffBody> body = plain_off_body(bytes);
+  if (!body) return;
+  for (int threads = 1; threads <= 3; ++threads) {
+    const std::optional<PolygonSoup> chunked = read_plain_off_in_chunks(*body, threads);
+    if (!chunked) continue;
+    PolygonSoup general;
+    try {
+      general = read_off_general(bytes, "fuzz");
+    } catch (const InputError& e) {
+      throw std::logic_error(std::string("the parallel path read what the general path refuses: ") + e.what());
+    }
+    if (!same_soup(*chunked, general)) throw std::logic_error("the parallel and the general path read different soups");
+  }
+}
+
 inline void check_obj_paths_agree(std::string_view bytes) {
   check_obj_chunks_agree(bytes);
   check_paths_agree(bytes, &read_obj, &read_obj_general);
 }
-inline void check_off_paths_agree(std::string_view bytes) { check_paths_agree(bytes, &read_off, &read_off_general); }
+inline void check_off_paths_agree(std::string_view bytes) {
+  check_off_chunks_agree(bytes);
+  check_paths_agree(bytes, &read_off, &read_off_general);
+}
 
 }  // namespace ffd::fuzz
