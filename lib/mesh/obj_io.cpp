@@ -401,6 +401,19 @@ void put_element(TextSink& out, const MeshElements& el, std::size_t e, const std
   out.put('\n');
 }
 
+// put_element for an element of at most 16 corners with no UV or normal: the line's room
+// claimed once (20 digits an index at most), then its indices written straight into it.
+void put_plain_element(TextSink& out, const MeshElements& el, std::size_t e) {
+  char* p = out.claim(2 + 21 * std::size_t{16});
+  *p++ = el.kinds[e] == ElementKind::Polygon ? 'f' : el.kinds[e] == ElementKind::Line ? 'l' : 'p';
+  for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) {
+    *p++ = ' ';
+    p = std::to_chars(p, p + 20, el.corners[c] + std::uint64_t{1}).ptr;
+  }
+  *p++ = '\n';
+  out.commit(p);
+}
+
 // Writes "tag a b c\n" (or with two values).
 template <class Vec>
 void put_vector_line(TextSink& out, const char* tag, const Vec& v) {
@@ -462,10 +475,14 @@ void put_elements(TextSink& out, const Mesh& mesh, const std::vector<std::int64_
   static const ObjState none;
   const auto state = [&](std::int32_t g) -> const ObjState& { return g >= 0 ? mesh.groups()[g] : none; };
   // Element e's lines: the state change from element e - 1's group (none before the first).
+  const bool plain = el.corner_uvs.empty() && corner_vn.empty();  // no corner has more than its vertex
   const auto element = [&](TextSink& line, std::size_t e) {
     const std::int32_t g = el.group(e), before = e > 0 ? el.group(e - 1) : -1;
     if (g != before) put_state_change(line, state(before), state(g));
-    put_element(line, el, e, corner_vn);
+    if (plain && el.degree(e) <= 16)
+      put_plain_element(line, el, e);
+    else
+      put_element(line, el, e, corner_vn);
   };
   if (statements_between_elements(extra, el.size())) {
     for (std::size_t e = 0; e < el.size(); ++e) {

@@ -66,6 +66,14 @@ public:
   }
   void integer(std::uint32_t x) { integer(static_cast<std::uint64_t>(x)); }
   void integer(std::int32_t x) { integer(static_cast<std::int64_t>(x)); }
+  /// Room for n characters (at most half the buffer) written straight at the returned
+  /// pointer; commit(end) then takes them up to `end`. For a line whose longest form is
+  /// known: one check for the line instead of one per token.
+  char* claim(std::size_t n) {
+    room(n);
+    return end_;
+  }
+  void commit(char* end) { end_ = end; }
   /// Writes what is buffered to the stream. Call it at the end; the destructor does not,
   /// so that a writer that throws leaves no half-formatted block behind.
   void flush() {
