@@ -440,6 +440,19 @@ void put_vertices(TextSink& out, const Mesh& mesh, VertexColors colors) {
   const ConstVec3Array p = mesh.positions();
   const ObjSource* extra = mesh.obj_source();
   const std::vector<double>* w = extra && !extra->w.empty() && !colors ? &extra->w : nullptr;
+  if (!colors && !w) {  // "v x y z": the line's room claimed once
+    put_ordered(out, 0, static_cast<std::size_t>(p.cols()), [&](TextSink& line, std::size_t i) {
+      char* q = line.claim(2 + 3 * (1 + kNumberChars));
+      *q++ = 'v';
+      for (int k = 0; k < 3; ++k) {
+        *q++ = ' ';
+        q = format_number_to(q, p(k, static_cast<Eigen::Index>(i)));
+      }
+      *q++ = '\n';
+      line.commit(q);
+    });
+    return;
+  }
   put_ordered(out, 0, static_cast<std::size_t>(p.cols()), [&](TextSink& line, std::size_t i) {
     line.put('v');
     for (int k = 0; k < 3; ++k) {
