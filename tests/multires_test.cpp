@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <random>
 
 #include "multires/cell_complex.h"
@@ -263,6 +264,35 @@ TEST(OctreeLattice, MovingOnePointChangesOnlyVerticesInItsNeighbourhood) {
   EXPECT_EQ(moved_unmarked, 0u);
   EXPECT_EQ(outside_ring, 0u);
   EXPECT_LT(marked.size(), static_cast<std::size_t>(b.x.cols()) / 4);
+}
+
+// A run that needs no normals (Mesh::normals_deferred) applies the octree without them:
+// the zero-normal apply's positions bit for bit and its counts, over first and later
+// moves at coarse and fine levels, one of them large enough to fold the lattice.
+TEST(OctreeLattice, WithoutNormalsGivesTheZeroNormalApplysPositionsAndCounts) {
+  BunnyLattice b;
+  OctreeLattice with(b.box, b.x, options(4, 2)), without(b.box, b.x, options(4, 2));
+  std::vector<std::uint32_t> ids(static_cast<std::size_t>(b.x.cols()));
+  std::iota(ids.begin(), ids.end(), 0u);
+  const Eigen::Matrix3Xd zero = Eigen::Matrix3Xd::Zero(3, b.x.cols());
+  std::size_t folded = 0;
+  for (const auto& [level, by] : {std::pair{0, 0.01}, {2, 0.02}, {0, 0.02}, {4, 0.01}, {1, 0.9}}) {
+    for (OctreeLattice* lattice : {&with, &without}) {
+      const GridComplex& g = lattice->complex(level);
+      move_one(*lattice, level, g.points[g.num_points() / 2], Eigen::Vector3d(by, -by, by / 2) * b.box.axes().colwise().norm().maxCoeff());
+    }
+    Eigen::Matrix3Xd p_with(3, b.x.cols()), n_with(3, b.x.cols());
+    Eigen::Matrix3Xd p_without = Eigen::Matrix3Xd::Constant(3, b.x.cols(), 7.0);
+    WarpCounts counts_with, counts_without;
+    with.apply(b.x, zero, ids, p_with, n_with, counts_with);
+    ASSERT_TRUE(without.apply_without_normals(b.x, ids, p_without, counts_without));
+    EXPECT_TRUE((p_with.array() == p_without.array()).all()) << level;
+    EXPECT_TRUE(n_with.isZero(0.0));
+    EXPECT_EQ(counts_with.folded, counts_without.folded) << level;
+    EXPECT_EQ(counts_with.evaluated, counts_without.evaluated) << level;
+    folded += counts_with.folded;
+  }
+  EXPECT_GT(folded, 0u);  // the large move folded some cells: the counts compared are not all zero
 }
 
 TEST(OctreeLattice, LocalSubdivisionAgreesWithSubdividingTheWholeLevel) {

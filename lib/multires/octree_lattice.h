@@ -162,6 +162,10 @@ public:
   void apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
              const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
              Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const override;
+  /// The positions and counts apply() gives, without the normals' cofactor products: a
+  /// run that needs no normals (their pages then stay untouched).
+  bool apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
+                             Eigen::Ref<Eigen::Matrix3Xd> out_pos, WarpCounts& counts) const override;
   void changed_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, std::vector<std::uint32_t>& ids) const override;
   bool has_changes() const override { return any_changed_; }
   void clear_changes() override;
@@ -276,6 +280,10 @@ private:
   /// Gives a tag to each vertex of `ids` (inside the box) that lies in a cell a moved level
   /// marked active and has none there yet; serial, before the parallel apply.
   void assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids) const;
+  /// apply(), and apply_without_normals() when in_nrm and out_nrm are null.
+  void apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
+                    const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                    Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const;
   struct Tag;
   bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag) const;
   bool tagged_local_part(int level, const Eigen::Vector3d& x, Tag& tag) const;

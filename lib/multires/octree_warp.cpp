@@ -209,6 +209,21 @@ void OctreeLattice::assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos
 void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
                           const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                           Eigen::Ref<Eigen::Matrix3Xd> out_nrm, WarpCounts& counts) const {
+  apply_points(in_pos, &in_nrm, ids, out_pos, &out_nrm, counts);
+}
+
+bool OctreeLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                          const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                                          WarpCounts& counts) const {
+  // The Jacobian is still summed, to count the folds apply() would count.
+  apply_points(in_pos, nullptr, ids, out_pos, nullptr, counts);
+  return true;
+}
+
+void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                 const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, const std::vector<std::uint32_t>& ids,
+                                 Eigen::Ref<Eigen::Matrix3Xd> out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
+                                 WarpCounts& counts) const {
   size_cache(in_pos.cols());
   assign_tags(in_pos, ids);
   std::size_t folded = 0, evaluated = 0;
@@ -237,11 +252,11 @@ void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, cons
     cache_key_.col(v) = x;
     if (!inside) {  // in no cell where a level moved: untouched, bit for bit
       out_pos.col(v) = x;
-      out_nrm.col(v) = in_nrm.col(v);
+      if (out_nrm) out_nrm->col(v) = in_nrm->col(v);
       continue;
     }
     out_pos.col(v) = x + d;
-    out_nrm.col(v) = transformed_normal(J, in_nrm.col(v));
+    if (out_nrm) out_nrm->col(v) = transformed_normal(J, in_nrm->col(v));
     folded += J.determinant() <= 0;
     ++evaluated;
   }
