@@ -13,7 +13,7 @@ namespace {
 
 // Reserves room for the `v` and `f` lines `bytes` of text can hold (reserve_for's bound:
 // a line takes at least 8 bytes with its newline).
-void reserve_lines(std::size_t bytes, PolygonSoup& soup) {
+void obj_reserve_lines(std::size_t bytes, PolygonSoup& soup) {
   const std::size_t most = (bytes + 1) / 8;
   soup.positions.reserve(most);
   soup.elements.reserve(most, 3);
@@ -24,7 +24,7 @@ void reserve_lines(std::size_t bytes, PolygonSoup& soup) {
 // after them allowed; false at anything else (a `/`, a sign, a zero, fewer than three
 // corners). `reach` keeps the most any index goes past the chunk's vertices above the
 // face: the chunks before must define more vertices than that.
-bool plain_face(std::string_view line, const char* readable, std::size_t n, SoupChunk& chunk, long long& reach) {
+bool obj_face(std::string_view line, const char* readable, std::size_t n, SoupChunk& chunk, long long& reach) {
   const char* p = line.data() + 1;
   const char* const end = line.data() + line.size();
   MeshElements& el = chunk.soup.elements;
@@ -46,7 +46,7 @@ bool plain_face(std::string_view line, const char* readable, std::size_t n, Soup
 
 // A `v` line of three numbers into the chunk, a comment after them allowed; false at
 // anything else.
-bool plain_vertex(std::string_view line, SoupChunk& chunk) {
+bool obj_vertex(std::string_view line, SoupChunk& chunk) {
   Eigen::Vector3d v;
   if (!fast_numbers_to_end(line.data() + 1, line.data() + line.size(), v.data(), 3)) {
     const std::size_t hash = line.find('#');  // rare: only then look for a comment
@@ -57,15 +57,9 @@ bool plain_vertex(std::string_view line, SoupChunk& chunk) {
   return true;
 }
 
-// Whether the line holds nothing to read: blanks, then the end or a comment.
-bool nothing_to_read(std::string_view line) {
-  const char* p = skip_blanks(line.data(), line.data() + line.size());
-  return p == line.data() + line.size() || *p == '#';
-}
-
 // Parses one chunk; stops (chunk.plain false) at its first line the parallel path does
 // not take, or soon after another chunk stopped.
-void parse_chunk(std::string_view text, const char* readable, const std::atomic<bool>& stopped, SoupChunk& chunk,
+void obj_parse_chunk(std::string_view text, const char* readable, const std::atomic<bool>& stopped, SoupChunk& chunk,
                  long long& reach) {
   LineScanner lines(text);
   std::string_view line;
@@ -74,10 +68,10 @@ void parse_chunk(std::string_view text, const char* readable, const std::atomic<
     if (!line.empty() && line.back() == '\\') return;  // a continued line: the serial reader joins it
     if (line.size() > 2 && blank(line[1])) {
       if (line[0] == 'v') {
-        if (!plain_vertex(line, chunk)) return;
+        if (!obj_vertex(line, chunk)) return;
         continue;
       }
-      if (line[0] == 'f' && plain_face(line, readable, lines.number(), chunk, reach)) continue;
+      if (line[0] == 'f' && obj_face(line, readable, lines.number(), chunk, reach)) continue;
     }
     if (!nothing_to_read(line)) return;
   }
@@ -87,7 +81,7 @@ void parse_chunk(std::string_view text, const char* readable, const std::atomic<
 
 // Whether the chunks hold a file the serial reader takes: each face points only at the
 // vertices above it, and no more corners than 32-bit offsets count.
-bool chunks_valid(const std::vector<SoupChunk>& chunks, const std::vector<long long>& reach) {
+bool obj_chunks_valid(const std::vector<SoupChunk>& chunks, const std::vector<long long>& reach) {
   std::size_t vertices = 0, corners = 0;
   for (std::size_t k = 0; k < chunks.size(); ++k) {
     if (reach[k] >= static_cast<long long>(vertices)) return false;
@@ -109,10 +103,10 @@ std::optional<PolygonSoup> read_plain_obj_in_chunks(std::string_view text, int t
   std::vector<long long> reach(parts.size(), -1);
   const char* const readable = text.data() + text.size();
   const bool plain = parse_in_team(chunks, threads, [&](std::size_t k, SoupChunk& chunk, const std::atomic<bool>& stopped) {
-    reserve_lines(k == 0 ? text.size() : parts[k].size(), chunk.soup);  // chunk 0's holds them all
-    parse_chunk(parts[k], readable, stopped, chunk, reach[k]);
+    obj_reserve_lines(k == 0 ? text.size() : parts[k].size(), chunk.soup);  // chunk 0's holds them all
+    obj_parse_chunk(parts[k], readable, stopped, chunk, reach[k]);
   });
-  if (!plain || !chunks_valid(chunks, reach)) return std::nullopt;
+  if (!plain || !obj_chunks_valid(chunks, reach)) return std::nullopt;
   if (release_text) release_text();
   if (!join_soup_chunks(chunks, chunks[0].lines, threads)) return std::nullopt;
   return std::move(chunks[0].soup);

@@ -205,6 +205,12 @@ inline bool fast_integer(const char*& p, const char* end, long long& value) {
   return true;
 }
 
+/// Whether the line holds nothing to read: blanks, then its end or a `#` comment.
+inline bool nothing_to_read(std::string_view line) {
+  const char* p = skip_blanks(line.data(), line.data() + line.size());
+  return p == line.data() + line.size() || *p == '#';
+}
+
 /// "file:line" for messages.
 inline std::string place(const std::string& file, std::size_t line) {
   return file + ":" + std::to_string(line);
