@@ -3,8 +3,6 @@
 // reader's turn) at anything else.
 #include <gtest/gtest.h>
 
-#include <omp.h>
-
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -14,6 +12,7 @@
 #include "fuzz/reader_paths.h"
 #include "mesh/obj_chunks.h"
 #include "mesh/obj_io.h"
+#include "support/with_threads.h"
 
 namespace ffd {
 namespace {
@@ -105,12 +104,8 @@ TEST(ObjChunks, AFaceAheadOfItsVerticesIsLeftToTheSerialReader) {
 TEST(ObjChunks, ReadObjReadsALargePlainFileAlikeAtOneAndTwoThreads) {
   const std::string text = plain_obj(110000, 5);
   ASSERT_GT(text.size(), std::size_t{4} << 20);
-  const int before = omp_get_max_threads();
-  omp_set_num_threads(1);
-  const PolygonSoup one = read_obj(text, "large.obj");
-  omp_set_num_threads(2);
-  const PolygonSoup two = read_obj(text, "large.obj");
-  omp_set_num_threads(before);
+  const PolygonSoup one = test::with_threads(1, [&] { return read_obj(text, "large.obj"); });
+  const PolygonSoup two = test::with_threads(2, [&] { return read_obj(text, "large.obj"); });
   EXPECT_TRUE(fuzz::same_soup(one, two));
   EXPECT_TRUE(fuzz::same_soup(two, general(text)));
 }

@@ -3,8 +3,6 @@
 // reader's turn) at anything else.
 #include <gtest/gtest.h>
 
-#include <omp.h>
-
 #include <random>
 #include <string>
 
@@ -12,6 +10,7 @@
 #include "fuzz/reader_paths.h"
 #include "mesh/off_chunks.h"
 #include "mesh/off_io.h"
+#include "support/with_threads.h"
 
 namespace ffd {
 namespace {
@@ -82,12 +81,8 @@ TEST(OffChunks, DeclinesOtherCountsThanTheBodyHolds) {
 TEST(OffChunks, ReadOffReadsALargePlainFileAlikeAtOneAndTwoThreads) {
   const std::string text = plain_off(60000, 110000, plain_off_body(60000, 110000, 6));
   ASSERT_GT(text.size(), std::size_t{4} << 20);
-  const int before = omp_get_max_threads();
-  omp_set_num_threads(1);
-  const PolygonSoup one = read_off(text, "large.off");
-  omp_set_num_threads(2);
-  const PolygonSoup two = read_off(text, "large.off");
-  omp_set_num_threads(before);
+  const PolygonSoup one = test::with_threads(1, [&] { return read_off(text, "large.off"); });
+  const PolygonSoup two = test::with_threads(2, [&] { return read_off(text, "large.off"); });
   EXPECT_TRUE(fuzz::same_soup(one, two));
   EXPECT_TRUE(fuzz::same_soup(two, read_off_general(text, "large.off")));
 }

@@ -2,8 +2,6 @@
 // same bytes whatever the thread count; and the OBJ, OFF, PLY and STL text writers through it.
 #include <gtest/gtest.h>
 
-#include <omp.h>
-
 #include <algorithm>
 #include <sstream>
 #include <stdexcept>
@@ -13,20 +11,13 @@
 #include "mesh/mesh_io.h"
 #include "mesh/obj_io.h"
 #include "mesh/text_sink.h"
+#include "support/with_threads.h"
 #include "test_meshes.h"
 
 namespace ffd {
 namespace {
 
-// Runs `f` with `threads` OpenMP threads, then restores the count.
-template <class F>
-auto with_threads(int threads, F f) {
-  const int before = omp_get_max_threads();
-  omp_set_num_threads(threads);
-  auto result = f();
-  omp_set_num_threads(before);
-  return result;
-}
+using test::with_threads;
 
 // Item i: its number, a shortest round-trip double, and i % 7 letters (lines of varied length).
 std::string ordered_text(std::size_t first, std::size_t last) {

@@ -50,41 +50,37 @@ void check_paths_agree(std::string_view bytes, Reader fast_reader, Reader genera
   if (!same_soup(fast, general)) throw std::logic_error("the fast and the general path read different soups");
 }
 
-/// read_plain_obj_in_chunks on `bytes` with 1 to 3 threads (2 to 6 chunks). \throw
-/// std::logic_error if it reads a soup where the general path refuses the bytes or reads
-/// another soup (or keeps statements, which the parallel path never does).
-inline void check_obj_chunks_agree(std::string_view bytes) {
+/// Calls `chunked(threads)` for 1 to 3 threads; where it reads a soup, `general(bytes)`
+/// must read the same one. \throw std::logic_error if it refuses the bytes or reads
+/// another soup.
+template <class Chunked>
+void check_chunks_agree(std::string_view bytes, Chunked chunked,
+                        PolygonSoup (*general_reader)(std::string_view, const std::string&)) {
   for (int threads = 1; threads <= 3; ++threads) {
-    const std::optional<PolygonSoup> chunked = read_plain_obj_in_chunks(bytes, threads);
-    if (!chunked) continue;
+    const std::optional<PolygonSoup> soup = chunked(threads);
+    if (!soup) continue;
     PolygonSoup general;
     try {
-      general = read_obj_general(bytes, "fuzz");
+      general = general_reader(bytes, "fuzz");
     } catch (const InputError& e) {
       throw std::logic_error(std::string("the parallel path read what the general path refuses: ") + e.what());
     }
-    if (!same_soup(*chunked, general) || general.obj || chunked->obj)
+    if (!same_soup(*soup, general) || general.obj || soup->obj)  // (the parallel paths keep no statement)
       throw std::logic_error("the parallel and the general path read different soups");
   }
 }
 
-/// read_plain_off_in_chunks on the body of `bytes` (plain_off_body) with 1 to 3 threads.
-/// \throw std::logic_error if it reads a soup where the general path refuses the bytes or
-/// reads another soup.
+/// read_plain_obj_in_chunks on `bytes` against read_obj_general (check_chunks_agree).
+inline void check_obj_chunks_agree(std::string_view bytes) {
+  check_chunks_agree(bytes, [&](int threads) { return read_plain_obj_in_chunks(bytes, threads); }, &read_obj_general);
+}
+
+/// read_plain_off_in_chunks on the body of `bytes` (plain_off_body) against
+/// read_off_general (check_chunks_agree).
 inline void check_off_chunks_agree(std::string_view bytes) {
   const std::optional<OffBody> body = plain_off_body(bytes);
-  if (!body) return;
-  for (int threads = 1; threads <= 3; ++threads) {
-    const std::optional<PolygonSoup> chunked = read_plain_off_in_chunks(*body, threads);
-    if (!chunked) continue;
-    PolygonSoup general;
-    try {
-      general = read_off_general(bytes, "fuzz");
-    } catch (const InputError& e) {
-      throw std::logic_error(std::string("the parallel path read what the general path refuses: ") + e.what());
-    }
-    if (!same_soup(*chunked, general)) throw std::logic_error("the parallel and the general path read different soups");
-  }
+  if (body)
+    check_chunks_agree(bytes, [&](int threads) { return read_plain_off_in_chunks(*body, threads); }, &read_off_general);
 }
 
 inline void check_obj_paths_agree(std::string_view bytes) {
