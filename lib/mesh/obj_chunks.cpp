@@ -60,7 +60,7 @@ bool obj_vertex(std::string_view line, SoupChunk& chunk) {
 // Parses one chunk; stops (chunk.plain false) at its first line the parallel path does
 // not take, or soon after another chunk stopped.
 void obj_parse_chunk(std::string_view text, const char* readable, const std::atomic<bool>& stopped, SoupChunk& chunk,
-                 long long& reach) {
+                     long long& reach) {
   LineScanner lines(text);
   std::string_view line;
   while (lines.next(line)) {

@@ -52,7 +52,7 @@ bool off_face(std::string_view line, const char* readable, long long vertices, s
 // plain) at a line the parallel path does not take, at a vertex after a face, or soon
 // after another chunk stopped.
 void off_parse_chunk(std::string_view text, const char* readable, long long vertices, std::size_t first_line,
-                 const std::atomic<bool>& stopped, SoupChunk& chunk) {
+                     const std::atomic<bool>& stopped, SoupChunk& chunk) {
   LineScanner lines(text);
   std::string_view line;
   Eigen::Vector3d v;
