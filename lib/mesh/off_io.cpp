@@ -91,7 +91,7 @@ void parse_counts(const std::vector<std::string_view>& counts, const std::string
 
 // Appends the vertex on line n (tokens t) to `soup`: a position, then as the header says
 // a normal, a colour (3 or 4 components) and a texture coordinate.
-void read_vertex(const std::vector<std::string_view>& t, const OffHeader& header, const std::string& file,
+void read_off_vertex(const std::vector<std::string_view>& t, const OffHeader& header, const std::string& file,
                  std::size_t n, PolygonSoup& soup) {
   const std::size_t want = 3 + (header.normal ? 3 : 0);
   std::size_t extra = t.size() - std::min(t.size(), want);
@@ -130,7 +130,7 @@ void append_face(const std::vector<std::uint32_t>& corners, const OffHeader& hea
 
 // The face on line n (tokens t): its vertex count, that many indices below nv, and an
 // optional colour (ignored), appended to the soup's elements (`corners`: scratch).
-void read_face(const std::vector<std::string_view>& t, const OffHeader& header, long long nv,
+void read_off_face(const std::vector<std::string_view>& t, const OffHeader& header, long long nv,
                const std::string& file, std::size_t n, PolygonSoup& soup, std::vector<std::uint32_t>& corners) {
   long long k;
   if (!parse_integer(t[0], k) || k < 3)
@@ -158,14 +158,14 @@ void read_face(const std::vector<std::string_view>& t, const OffHeader& header, 
 // place. False, having changed nothing, for anything else: the general path then reads
 // the line (blank and comment lines included) and gives its error, so both paths read
 // the same soup (tests/mesh_io_test.cpp checks this).
-bool read_vertex_fast(std::string_view line, PolygonSoup& soup) {
+bool read_off_vertex_fast(std::string_view line, PolygonSoup& soup) {
   Eigen::Vector3d v;
   if (!fast_numbers_to_end(line.data(), line.data() + line.size(), v.data(), 3)) return false;
   soup.positions.push_back(v);
   return true;
 }
 
-bool read_face_fast(std::string_view line, const OffHeader& header, long long nv, std::size_t n,
+bool read_off_face_fast(std::string_view line, const OffHeader& header, long long nv, std::size_t n,
                     PolygonSoup& soup, std::vector<std::uint32_t>& corners) {
   const char* p = skip_blanks(line.data(), line.data() + line.size());
   const char* end = line.data() + line.size();
@@ -188,7 +188,7 @@ bool read_face_fast(std::string_view line, const OffHeader& header, long long nv
 // next lines' tokens join it. A colour after the indices stays on the record's last line.
 void join_wrapped_face(LineScanner& lines, std::vector<std::string_view>& t, std::vector<std::string_view>& more) {
   long long k;
-  if (!parse_integer(t[0], k)) return;  // read_face names the bad count
+  if (!parse_integer(t[0], k)) return;  // read_off_face names the bad count
   std::string_view line;
   while (static_cast<long long>(t.size()) - 1 < k && lines.next(line)) {
     split_tokens(line, more);
@@ -277,21 +277,21 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
   std::string_view line;
   while (static_cast<long long>(soup.positions.size()) < nv) {
     if (!lines.next(line)) throw ends_early(file, counts_line, soup.positions.size(), nv, "vertices");
-    if (plain && read_vertex_fast(line, soup)) continue;
+    if (plain && read_off_vertex_fast(line, soup)) continue;
     split_tokens(line, t);
-    if (!t.empty()) read_vertex(t, header, file, lines.number(), soup);
+    if (!t.empty()) read_off_vertex(t, header, file, lines.number(), soup);
   }
   soup.elements.reserve(static_cast<std::size_t>(nf), 3);
   std::vector<std::uint32_t> corners;
   std::vector<std::string_view> more;
   while (static_cast<long long>(soup.elements.size()) < nf) {
     if (!lines.next(line)) throw ends_early(file, counts_line, soup.elements.size(), nf, "faces");
-    if (fast && read_face_fast(line, header, nv, lines.number(), soup, corners)) continue;
+    if (fast && read_off_face_fast(line, header, nv, lines.number(), soup, corners)) continue;
     split_tokens(line, t);
     if (t.empty()) continue;
     const std::size_t first = lines.number();  // a wrapped record is named by its first line
     join_wrapped_face(lines, t, more);
-    read_face(t, header, nv, file, first, soup, corners);
+    read_off_face(t, header, nv, file, first, soup, corners);
   }
   if (next_tokens(lines, t)) throw InputError(At{place(file, lines.number())}, "unexpected data after the last face");
   if (release_text) release_text();
