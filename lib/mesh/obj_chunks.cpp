@@ -48,11 +48,7 @@ bool obj_face(std::string_view line, const char* readable, std::size_t n, SoupCh
 // anything else.
 bool obj_vertex(std::string_view line, SoupChunk& chunk) {
   Eigen::Vector3d v;
-  if (!fast_numbers_to_end(line.data() + 1, line.data() + line.size(), v.data(), 3)) {
-    const std::size_t hash = line.find('#');  // rare: only then look for a comment
-    if (hash == std::string_view::npos || !fast_numbers_to_end(line.data() + 1, line.data() + hash, v.data(), 3))
-      return false;
-  }
+  if (!numbers_before_comment(line.data() + 1, line.data() + line.size(), v.data(), 3)) return false;
   chunk.soup.positions.push_back(v);
   return true;
 }

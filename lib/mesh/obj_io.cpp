@@ -237,10 +237,8 @@ bool read_face_fast(std::string_view line, const char* readable, std::int32_t gr
 // input ("v \nv \n...") then reserves no more than the same bytes of valid lines need.
 void reserve_for(std::string_view text, PolygonSoup& soup) {
   const std::size_t most = (text.size() + 1) / 8;
-  // A position, and a triangle's corners, kind, offset and line.
-  const std::size_t line_bytes = sizeof(Eigen::Vector3d) + sizeof(ElementKind) + 5 * sizeof(std::uint32_t);
   std::size_t vertices = most, faces = most;
-  if (!reserving_is_free(most * line_bytes)) {
+  if (!reserving_is_free(most * kSoupLineBytes)) {
     const auto [v, f] = count_keyed_lines(text, 'v', 'f');
     vertices = std::min(v, most), faces = std::min(f, most - vertices);
   }
@@ -321,8 +319,7 @@ void read_statement(std::string_view line, const std::vector<std::string_view>& 
 // Whether read_obj tries the parallel path (obj_chunks.h): its chunks reserve room for
 // twice the lines reserve_for does.
 bool read_in_chunks(std::string_view text) {
-  const std::size_t line_bytes = sizeof(Eigen::Vector3d) + sizeof(ElementKind) + 5 * sizeof(std::uint32_t);
-  return worth_reading_in_chunks(text.size(), 2 * ((text.size() + 1) / 8) * line_bytes);
+  return worth_reading_in_chunks(text.size(), 2 * ((text.size() + 1) / 8) * kSoupLineBytes);
 }
 
 PolygonSoup read_obj_lines(std::string_view text, const std::string& file, bool fast,
@@ -381,9 +378,14 @@ void put_state_change(TextSink& out, const ObjState& from, const ObjState& to) {
   if (to.smoothing != from.smoothing) statement("s ", to.smoothing);
 }
 
+// The statement an element of `kind` is written as.
+char element_letter(ElementKind kind) {
+  return kind == ElementKind::Polygon ? 'f' : kind == ElementKind::Line ? 'l' : 'p';
+}
+
 // Writes element e's statement ("f", "l" or "p" and its corners).
 void put_element(TextSink& out, const MeshElements& el, std::size_t e, const std::vector<std::int64_t>& corner_vn) {
-  out.put(el.kinds[e] == ElementKind::Polygon ? 'f' : el.kinds[e] == ElementKind::Line ? 'l' : 'p');
+  out.put(element_letter(el.kinds[e]));
   for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) {
     out.put(' ');
     out.integer(el.corners[c] + std::uint64_t{1});
@@ -405,7 +407,7 @@ void put_element(TextSink& out, const MeshElements& el, std::size_t e, const std
 // claimed once (20 digits an index at most), then its indices written straight into it.
 void put_plain_element(TextSink& out, const MeshElements& el, std::size_t e) {
   char* p = out.claim(2 + 21 * std::size_t{16});
-  *p++ = el.kinds[e] == ElementKind::Polygon ? 'f' : el.kinds[e] == ElementKind::Line ? 'l' : 'p';
+  *p++ = element_letter(el.kinds[e]);
   for (std::uint32_t c = el.begin(e); c < el.end(e); ++c) {
     *p++ = ' ';
     p = std::to_chars(p, p + 20, el.corners[c] + std::uint64_t{1}).ptr;

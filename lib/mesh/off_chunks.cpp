@@ -16,9 +16,7 @@ bool off_value_ends(const char* p, const char* end) { return p == end || blank(*
 
 // A line of three numbers (a comment after them allowed) into `v`.
 bool off_vertex(std::string_view line, Eigen::Vector3d& v) {
-  if (fast_numbers_to_end(line.data(), line.data() + line.size(), v.data(), 3)) return true;
-  const std::size_t hash = line.find('#');  // rare: only then look for a comment
-  return hash != std::string_view::npos && fast_numbers_to_end(line.data(), line.data() + hash, v.data(), 3);
+  return numbers_before_comment(line.data(), line.data() + line.size(), v.data(), 3);
 }
 
 // A face `k i1 .. ik` (k >= 3, every index below `vertices`, then only blanks or a

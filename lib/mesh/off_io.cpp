@@ -230,8 +230,7 @@ std::optional<PolygonSoup> read_off_in_chunks(std::string_view text, const std::
                                               std::size_t counts_line, long long nv, long long nf,
                                               const std::function<void()>& release_text) {
   // The first chunk's room for every vertex and face, the others' for what their bytes hold.
-  const std::size_t line_bytes = sizeof(Eigen::Vector3d) + sizeof(ElementKind) + 5 * sizeof(std::uint32_t);
-  const std::size_t reserved = static_cast<std::size_t>(nv + nf) * line_bytes + text.size() * line_bytes / 6;
+  const std::size_t reserved = static_cast<std::size_t>(nv + nf) * kSoupLineBytes + text.size() * kSoupLineBytes / 6;
   if (!worth_reading_in_chunks(text.size(), reserved)) return std::nullopt;
   const std::optional<OffBody> body = body_after(text, counts, counts_line, nv, nf);
   return body ? read_plain_off_in_chunks(*body, omp_get_max_threads(), release_text) : std::nullopt;

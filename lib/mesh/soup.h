@@ -3,6 +3,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,6 +15,11 @@ namespace ffd {
 
 struct PlySource;
 struct ObjSource;
+
+/// What one text line of a vertex and one of a triangle take in a soup: a position, and the
+/// triangle's three corners, kind, offset and file line (the readers size their
+/// reservations by it).
+constexpr std::size_t kSoupLineBytes = sizeof(Eigen::Vector3d) + sizeof(ElementKind) + 5 * sizeof(std::uint32_t);
 
 /// Everything ffdtool keeps of a mesh file.
 struct PolygonSoup {

@@ -197,6 +197,14 @@ inline std::from_chars_result decimal(const char* p, const char* end, long long&
   return {q, std::errc()};
 }
 
+/// fast_numbers_to_end, or the same up to a `#` comment after the numbers: the parallel
+/// readers' vertex lines (the comment is looked for only when the plain form fails).
+inline bool numbers_before_comment(const char* p, const char* end, double* out, int count) {
+  if (fast_numbers_to_end(p, end, out, count)) return true;
+  const auto* hash = static_cast<const char*>(std::memchr(p, '#', static_cast<std::size_t>(end - p)));
+  return hash && fast_numbers_to_end(p, hash, out, count);
+}
+
 /// An integer at p that ends at a blank or the line's end.
 inline bool fast_integer(const char*& p, const char* end, long long& value) {
   const auto [next, ec] = decimal(p, end, value);
