@@ -20,6 +20,14 @@ std::string element_place(const std::string& file, const MeshElements& elements,
   return file + (all_polygons ? ": face " : ": element ") + std::to_string(e);
 }
 
+Eigen::Matrix3Xd copy_in_team(const Eigen::Ref<const Eigen::Matrix3Xd>& from) {
+  const Eigen::Index n = from.cols();
+  Eigen::Matrix3Xd to(3, n);
+#pragma omp parallel for schedule(static) if (n >= 65536)
+  for (Eigen::Index i = 0; i < n; ++i) to.col(i) = from.col(i);
+  return to;
+}
+
 Mesh::Mesh() = default;
 Mesh::~Mesh() = default;
 Mesh::Mesh(Mesh&&) noexcept = default;
@@ -40,14 +48,6 @@ void resize_array(Eigen::Matrix3Xd& m, std::size_t count, const Eigen::Vector3d&
   if (n > old) m.rightCols(n - old).colwise() = fallback;
 }
 
-// to = from, a large array copied by the team (each thread faulting in its own part).
-void copy_in_team(const Eigen::Matrix3Xd& from, Eigen::Matrix3Xd& to) {
-  to.resize(3, from.cols());
-  const Eigen::Index n = from.cols();
-#pragma omp parallel for schedule(static) if (n >= 65536)
-  for (Eigen::Index i = 0; i < n; ++i) to.col(i) = from.col(i);
-}
-
 // Zeros m without writing its pages where it is large (zero_bits).
 void set_zero(Eigen::Matrix3Xd& m) { zero_bits(m.data(), static_cast<std::size_t>(m.size()) * sizeof(double)); }
 
@@ -66,7 +66,7 @@ void Mesh::resize_vertices(std::size_t count) {
 }
 
 void Mesh::set_vertices(Eigen::Matrix3Xd positions, bool normals) {
-  copy_in_team(positions, rest_);
+  rest_ = copy_in_team(positions);
   pos_ = std::move(positions);
   if (!normals) {
     rest_normal_.resize(3, pos_.cols());
