@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <numeric>
 #include <random>
 
@@ -12,6 +13,7 @@
 #include "multires/cell_coordinates.h"
 #include "multires/octree_lattice.h"
 #include "multires/volume_subdivision.h"
+#include "support/eigen_lu.h"
 #include "test_meshes.h"
 #include "warp/box_fit.h"
 #include "warp/bspline_lattice.h"
@@ -50,6 +52,48 @@ void move_one(OctreeLattice& lattice, int level, const GridIndex& node, const Ei
   const std::int32_t id = lattice.point_index(level, node);
   ASSERT_GE(id, 0);
   lattice.move_level_points(level, {id}, {Eigen::Vector3d(lattice.points(level).col(id) + by)});
+}
+
+/// The matrices a Newton step of inverse_trilinear solves with, and harder ones: random
+/// entries over many magnitudes, entries tied in magnitude (the first row keeps the
+/// pivot), zeros below a pivot, rows in every order, and nearly singular matrices.
+std::vector<Eigen::Matrix3d> solve_cases() {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  std::uniform_int_distribution<int> small(-2, 2), exponent(-30, 30);
+  std::vector<Eigen::Matrix3d> cases;
+  for (int n = 0; n < 200000; ++n) {
+    Eigen::Matrix3d A;
+    for (int e = 0; e < 9; ++e) A(e) = normal(rng);
+    switch (n % 4) {
+      case 1: A *= std::ldexp(1.0, exponent(rng)); break;
+      case 2:
+        for (int e = 0; e < 9; ++e) A(e) = small(rng);  // ties and zeros
+        break;
+      case 3: A.col(2) = A.col(0) + 1e-12 * A.col(1); break;  // nearly singular
+      default: break;
+    }
+    cases.push_back(A);
+  }
+  return cases;
+}
+
+TEST(CellCoordinates, PivotedSolveIsEigensPartialPivLuBitForBit) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal;
+  std::size_t compared = 0;
+  for (const Eigen::Matrix3d& A : solve_cases()) {
+    if (!(std::abs(A.determinant()) > 1e-300)) continue;  // inverse_trilinear solves no other
+    const Eigen::Vector3d b(normal(rng), normal(rng), normal(rng));
+    Eigen::Vector3d eigen;
+    eigen_partial_pivot_solve(A.data(), b.data(), eigen.data());
+    const Eigen::Vector3d ours = pivoted_solve(A, b);
+    ASSERT_EQ(std::memcmp(ours.data(), eigen.data(), sizeof(double) * 3), 0)
+        << "A =\n" << A << "\nb = " << b.transpose() << "\nours " << ours.transpose() << "\nEigen's "
+        << eigen.transpose();
+    ++compared;
+  }
+  EXPECT_GT(compared, 150000u);
 }
 
 TEST(VolumeSubdivision, StencilsAreAffineCombinations) {

@@ -9,7 +9,9 @@
 // Neither uses the library: the polygons are fanned from their first corners here.
 #pragma once
 
+#ifndef FFD_ORACLE_API
 #define FFD_ORACLE_API __attribute__((visibility("default")))
+#endif
 
 namespace ffd {
 
