@@ -96,6 +96,39 @@ TEST(CellCoordinates, PivotedSolveIsEigensPartialPivLuBitForBit) {
   EXPECT_GT(compared, 150000u);
 }
 
+TEST(CellCoordinates, TheDisplacementGradientBoundHoldsAnywhereInTheCell) {
+  // Bent cells (cubes with corners moved by up to a third of their edge) and corner
+  // displacements from small to folding; at random points, the bound is at least the
+  // 2-norm of the gradient the octree's Jacobian part computes, (dD/du)(dx/du)^-1.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0), offset(-1.0 / 3, 1.0 / 3);
+  std::vector<double> ratios;
+  for (int n = 0; n < 20000; ++n) {
+    CellCorners Q, D;
+    const double size = std::ldexp(1.0, n % 7 - 3), reach = std::ldexp(size, n % 5 - 4);
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d corner((c & 1) ? 1.0 : 0.0, (c & 2) ? 1.0 : 0.0, (c & 4) ? 1.0 : 0.0);
+      Q.col(c) = size * (corner + Eigen::Vector3d(offset(rng), offset(rng), offset(rng)));
+      D.col(c) = reach * Eigen::Vector3d(offset(rng), offset(rng), offset(rng));
+    }
+    const Eigen::Vector3d u(unit(rng), unit(rng), unit(rng));
+    double w[8];
+    Eigen::Matrix<double, 8, 3> dw;
+    trilinear_weights(u, w, &dw);
+    const Eigen::Matrix3d dx_du = Q * dw;
+    if (!(std::abs(dx_du.determinant()) > 0)) continue;
+    const double gradient = (D * dw * dx_du.inverse()).jacobiSvd().singularValues()[0];
+    const double bound = displacement_gradient_bound(D, dx_du);
+    ASSERT_GE(bound, gradient) << n;
+    ratios.push_back(bound / gradient);
+  }
+  ASSERT_GT(ratios.size(), 19000u);
+  // And it is tight enough to decide: within a small factor of the gradient.
+  std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+  std::printf("[bound] median bound / gradient %.2f\n", ratios[ratios.size() / 2]);
+  EXPECT_LT(ratios[ratios.size() / 2], 6.0);
+}
+
 TEST(VolumeSubdivision, StencilsAreAffineCombinations) {
   const GridComplex g = make_grid_complex(4, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {2, 1, 1}, {3, 3, 3}, {2, 2, 2}});
   const GridComplex fine = refine(g);

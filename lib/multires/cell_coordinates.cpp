@@ -89,7 +89,7 @@ Eigen::Vector3d trilinear(const CellCorners& Q, const Eigen::Vector3d& u, Eigen:
 }
 
 bool inverse_trilinear(const CellCorners& Q, const Eigen::Vector3d& x, Eigen::Vector3d& u,
-                       const Eigen::Vector3d& guess) {
+                       const Eigen::Vector3d& guess, Eigen::Matrix3d* dx_du) {
   u = guess;
   const double scale = (Q.rowwise().maxCoeff() - Q.rowwise().minCoeff()).maxCoeff();
   if (!(scale > 0)) return false;
@@ -98,7 +98,10 @@ bool inverse_trilinear(const CellCorners& Q, const Eigen::Vector3d& x, Eigen::Ve
   // Newton's method with a backtracking line search on |r|: bent cells (near cuts, shrunk
   // points) make the full step overshoot.
   for (int iteration = 0; iteration < 50; ++iteration) {
-    if (r.norm() <= 1e-13 * scale) return true;
+    if (r.norm() <= 1e-13 * scale) {
+      if (dx_du) *dx_du = J;
+      return true;
+    }
     if (!(std::abs(J.determinant()) > 1e-300)) return false;
     const Eigen::Vector3d step = pivoted_solve(J, r);
     double t = 1;
@@ -109,9 +112,10 @@ bool inverse_trilinear(const CellCorners& Q, const Eigen::Vector3d& x, Eigen::Ve
       next_r = trilinear(Q, next_u, &next_J) - x;
       if (next_r.norm() < r.norm()) break;
     }
-    if (!(next_r.norm() < r.norm())) return r.norm() <= 1e-9 * scale;
+    if (!(next_r.norm() < r.norm())) break;
     u = next_u, r = next_r, J = next_J;
   }
+  if (dx_du) *dx_du = J;
   return r.norm() <= 1e-9 * scale;
 }
 

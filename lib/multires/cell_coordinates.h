@@ -3,6 +3,9 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace ffd {
 
@@ -24,8 +27,31 @@ Eigen::Vector3d pivoted_solve(const Eigen::Matrix3d& A, const Eigen::Vector3d& b
 /// (the cell's centre by default; for a cell of a regular grid, the fractional grid
 /// position is exact and costs one evaluation). False when it does not converge or the
 /// map is singular there; u may then lie anywhere.
+/// `dx_du`, when given, receives the map's Jacobian at the u returned.
 bool inverse_trilinear(const CellCorners& Q, const Eigen::Vector3d& x, Eigen::Vector3d& u,
-                       const Eigen::Vector3d& guess = Eigen::Vector3d::Constant(0.5));
+                       const Eigen::Vector3d& guess = Eigen::Vector3d::Constant(0.5), Eigen::Matrix3d* dx_du = nullptr);
+
+/// An upper bound of the 2-norm of (dD/du)(dx/du)^-1, the gradient of the displacement
+/// that trilinear interpolation of the corner displacements D gives a cell, at a point of
+/// the cell where the rest map's Jacobian is dx_du:
+/// - column a of dD/du is a convex combination of D's four edge differences along axis a,
+///   so |dD/du|_F <= the root of the sum over a of the largest such difference squared;
+/// - |(dx/du)^-1|_2 = 1 / s3 = s1 s2 / |det| <= |dx/du|_F^2 / (2 |det|) (s: singular values).
+/// Infinite when dx_du is singular. Inline: it reads D where the caller just gathered it.
+inline double displacement_gradient_bound(const CellCorners& D, const Eigen::Matrix3d& dx_du) {
+  static constexpr int kEdges[3][4][2] = {{{0, 1}, {2, 3}, {4, 5}, {6, 7}},   // along u: bit 0
+                                          {{0, 2}, {1, 3}, {4, 6}, {5, 7}},   // along v
+                                          {{0, 4}, {1, 5}, {2, 6}, {3, 7}}};  // along w
+  double gradient = 0;  // the bound of |dD/du|_F^2
+  for (const auto& edges : kEdges) {
+    double largest = 0;
+    for (const auto& e : edges) largest = std::max(largest, (D.col(e[1]) - D.col(e[0])).squaredNorm());
+    gradient += largest;
+  }
+  const double det = std::abs(dx_du.determinant());
+  if (!(det > 0)) return std::numeric_limits<double>::infinity();
+  return std::sqrt(gradient) * dx_du.squaredNorm() / (2 * det);
+}
 
 /// Whether u lies in [0,1]^3 within `tolerance`.
 inline bool in_unit_cube(const Eigen::Vector3d& u, double tolerance) {

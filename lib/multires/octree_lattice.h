@@ -49,6 +49,7 @@
 #include <vector>
 
 #include "common/zeroed_array.h"
+#include "multires/cell_coordinates.h"
 #include "multires/grid_complex.h"
 #include "multires/step_grid.h"
 #include "multires/subdivided_level.h"
@@ -180,8 +181,10 @@ public:
   };
   /// False when x lies in no cell of C^k(R_level) for any k.
   bool locate(int level, const Eigen::Vector3d& x, Location& where) const;
-  /// The same for x at box coordinates t (box().to_local(x)).
-  bool locate(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Location& where) const;
+  /// The same for x at box coordinates t (box().to_local(x)); dx_du, when given, receives
+  /// the rest cell's Jacobian d x / d u there.
+  bool locate(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Location& where,
+              Eigen::Matrix3d* dx_du = nullptr) const;
   /// The k-th Catmull-Clark subdivision of the level's rest lattice (k = 0: the level),
   /// built on first use, and its points' positions (the whole level subdivided). A large
   /// level never builds its C^k topology itself (StepGrid): for it these are built on the
@@ -266,7 +269,11 @@ private:
   /// changed, multiplied again, step by step from the moved points `ids`.
   void update_by_rows(int level, const std::vector<std::int32_t>& ids);
   void mark_changed(int level, const std::vector<std::int32_t>& ids, OctreeMove& report);
-  Eigen::Vector3d displacement(int level, const Location& where, Eigen::Matrix3d* jacobian) const;
+  /// The grid level's displacement at `where`; `jacobian`, when given, gains its gradient
+  /// (the level's part of dF/dx - I); `bound`, when given, receives a bound of that
+  /// gradient's 2-norm from the rest cell's Jacobian `dx_du` there.
+  Eigen::Vector3d displacement(int level, const Location& where, Eigen::Matrix3d* jacobian,
+                               const Eigen::Matrix3d* dx_du = nullptr, double* bound = nullptr) const;
   /// F(x) - x summed over the moved levels, and whether x lies in a cell where some
   /// level's displacement may be non-zero (if not, F(x) = x exactly).
   bool displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const;
@@ -285,13 +292,21 @@ private:
                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const;
   struct Tag;
-  bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag) const;
+  bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool need_jacobian,
+                        Tag& tag) const;
   bool tagged_local_part(int level, const Eigen::Vector3d& x, Tag& tag) const;
-  /// One level's part of F(x) - x and of dF/dx - I, at x with box coordinates t, through
-  /// the vertex's tag (`same`: the tag is for x; a fresh tag computes it from scratch);
-  /// false (d, J zero) when the level leaves x alone: not moved, or not near x.
-  bool tagged_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag, Eigen::Vector3d& d,
-                   Eigen::Matrix3d& J) const;
+  /// One level's part of F(x) - x (tag.d) and of dF/dx - I (tag.J, or only its bound when
+  /// the Jacobian is not needed and a bound is cheaper), at x with box coordinates t,
+  /// through the vertex's tag (`same`: the tag is for x; a fresh tag computes it from
+  /// scratch); false (d, J zero) when the level leaves x alone: not moved, or not near x.
+  bool tagged_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, bool need_jacobian,
+                   Tag& tag) const;
+  /// Makes a tag that holds only the bound of its Jacobian part hold the part itself.
+  void complete_jacobian(int level, Tag& tag) const;
+  /// Whether I + the sum of the levels' Jacobian parts at vertex v (those of its tags whose
+  /// `inside` is set, in level order) has a determinant <= 0; `bound`, the sum of their
+  /// bounds, decides it without the parts when it is small enough.
+  bool jacobian_folded(std::uint32_t v, double bound) const;
 
   Parallelepiped box_;
   OctreeOptions options_;
@@ -316,12 +331,14 @@ private:
   struct Tag {
     Eigen::Vector3d u = Eigen::Vector3d::Zero();
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d J = Eigen::Matrix3d::Zero();  // when `jacobian`
     std::uint32_t epoch = 0;  // of d and J; 0: not computed
+    float bound = 0;          // a bound of |J|_2 (to float precision), whether or not J is held
     std::int32_t cell = -1, face = -1;  // face, slot: a local level's tetrahedron (u: its lambda 1..3)
     std::int8_t step = -1, slot = -1;
     std::uint8_t state = 0;  // 0: not located yet, 1: in a cell, 2: in none
     bool inside = false;     // d and J are a part
+    bool jacobian = false;   // J holds the part (a first locate without normals holds only its bound)
   };
   // Tags exist only where a level can move a vertex: per level, per vertex, 1 + the index
   // of its tag in cache_[level], or 0 when it has none (its cell was not active there when

@@ -15,6 +15,11 @@ namespace {
 
 constexpr double kInsideTolerance = 1e-9;
 constexpr int kMaxWalk = 8;
+// Below this, the sum of a vertex's Jacobian parts' bounds decides that I + their sum has
+// a positive determinant: for |A|_2 < 1, I + tA is invertible for every t in [0, 1], so
+// det(I + A) keeps det(I)'s sign; at 0.5 it is at least 1/8, far above the rounding of
+// the determinant apply() computes.
+constexpr double kFoldFreeBound = 0.5;
 
 // A grid node (coordinates in [0, 2^20)) as a number that orders nodes by (k, j, i), the
 // order of a GridComplex's points.
@@ -38,7 +43,8 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, Location& where) con
   return locate(l, x, box_.to_local(x), where);
 }
 
-bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Location& where) const {
+bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Location& where,
+                           Eigen::Matrix3d* dx_du) const {
   const Level& level = levels_[l];
   if (!in_unit_cube(t, kInsideTolerance)) return false;
   // The minimal cell: the finest subdivision whose lattice holds x. A cell of C^k lies
@@ -56,7 +62,7 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3
       const Eigen::Vector3d guess =
           (t * res - Eigen::Vector3d(c[0], c[1], c[2])).cwiseMax(0.0).cwiseMin(1.0);  // exact on a regular grid
       Eigen::Vector3d u;
-      if (!inverse_trilinear(corners_of(g, level.fine[k], cell), x, u, guess)) break;
+      if (!inverse_trilinear(corners_of(g, level.fine[k], cell), x, u, guess, dx_du)) break;
       if (in_unit_cube(u, kInsideTolerance)) {
         where = {k, cell, u.cwiseMax(0.0).cwiseMin(1.0)};
         return true;
@@ -67,7 +73,8 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3
   return false;
 }
 
-Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen::Matrix3d* jacobian) const {
+Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen::Matrix3d* jacobian,
+                                            const Eigen::Matrix3d* dx_du, double* bound) const {
   const Level& level = levels_[l];
   const StepGrid g = level.step_grid(where.step);
   double w[8];
@@ -80,6 +87,7 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
   for (int c = 0; c < 8; ++c) D.col(c) = disp.col(corner[c]);
   Eigen::Vector3d d = Eigen::Vector3d::Zero();
   for (int c = 0; c < 8; ++c) d += w[c] * D.col(c);
+  if (bound) *bound = displacement_gradient_bound(D, *dx_du);
   if (jacobian) {
     // dF/dx = I + (dD/du) (dx/du)^-1, dx/du from the rest cell.
     CellCorners Q;
@@ -93,30 +101,31 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
 /// The slot, in a dense array over a grid with `res` cells per axis, of box coordinates t.
 static std::size_t grid_slot(const Eigen::Vector3d& t, int res) { return dense_cell(grid_cell_at(t, res), res); }
 
-bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag,
-                                Eigen::Vector3d& d, Eigen::Matrix3d& J) const {
+bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same,
+                                bool need_jacobian, Tag& tag) const {
   if (!same) tag = Tag{};
   const Marks& m = marks(l);
   const std::size_t slot = grid_slot(t, m.resolution);
   const std::uint32_t epoch = m.epochs[slot] + 1;
   if (tag.epoch == epoch) {  // nothing moved near the vertex at this level since
-    d = tag.d, J = tag.J;
+    if (need_jacobian && tag.inside && !tag.jacobian) complete_jacobian(l, tag);
     return tag.inside;
   }
   tag.epoch = epoch;
   if (!m.active[slot]) {  // outside the cells any move marked, the level's displacement is zero
     tag.d.setZero(), tag.J.setZero();
+    tag.bound = 0, tag.jacobian = true;
     tag.inside = false;
   } else {
-    tag.inside = is_local(l) ? tagged_local_part(l, x, tag) : tagged_grid_part(l, x, t, tag);
+    tag.inside = is_local(l) ? tagged_local_part(l, x, tag) : tagged_grid_part(l, x, t, need_jacobian, tag);
   }
-  d = tag.d, J = tag.J;
   return tag.inside;
 }
 
 bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag) const {
   tag.d.setZero();
   tag.J.setZero();
+  tag.bound = 0, tag.jacobian = true;
   SubdividedLevel::Location where;
   if (tag.state == 0) {
     tag.state = local(l).locate(x, where) ? 1 : 2;
@@ -127,22 +136,59 @@ bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag)
   if (tag.state != 1) return false;
   where = {tag.step, tag.cell, tag.face, tag.slot, Eigen::Vector4d(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2])};
   tag.d = local(l).displacement(where, &tag.J);
+  tag.bound = static_cast<float>(tag.J.norm());
   return true;
 }
 
-bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag) const {
+bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool need_jacobian,
+                                     Tag& tag) const {
   tag.d.setZero();
   tag.J.setZero();
+  tag.bound = 0, tag.jacobian = true;
+  Eigen::Matrix3d dx_du;  // the rest cell's Jacobian, when located here
+  bool located_here = false;
   if (tag.state == 0) {
     Location where;
-    tag.state = locate(l, x, t, where) ? 1 : 2;
+    tag.state = locate(l, x, t, where, &dx_du) ? 1 : 2;
     located_.fetch_add(1, std::memory_order_relaxed);
     tag.u = where.u, tag.cell = where.cell, tag.step = static_cast<std::int8_t>(where.step);
+    located_here = true;
   }
   if (tag.state != 1) return false;
-  Location where{tag.step, tag.cell, tag.u};
+  const Location where{tag.step, tag.cell, tag.u};
+  if (located_here && !need_jacobian) {
+    // A first move without normals: the locate's Jacobian bounds the part, and the part
+    // itself is computed only if the bounds cannot decide the vertex's fold.
+    double bound;
+    tag.d = displacement(l, where, nullptr, &dx_du, &bound);
+    tag.bound = static_cast<float>(bound);
+    tag.jacobian = false;
+    return true;
+  }
   tag.d = displacement(l, where, &tag.J);
+  tag.bound = static_cast<float>(tag.J.norm());
   return true;
+}
+
+void OctreeLattice::complete_jacobian(int l, Tag& tag) const {
+  tag.J.setZero();
+  displacement(l, Location{tag.step, tag.cell, tag.u}, &tag.J);
+  tag.jacobian = true;
+}
+
+bool OctreeLattice::jacobian_folded(std::uint32_t v, double bound) const {
+  if (bound < kFoldFreeBound) return false;
+  Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+  for (int l = 0; l < num_levels(); ++l) {
+    if (!moved(l)) continue;
+    const std::uint32_t index = tag_index_[static_cast<std::size_t>(l)][v];
+    if (index == 0) continue;
+    Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
+    if (!tag.inside) continue;
+    if (!tag.jacobian) complete_jacobian(l, tag);
+    J += tag.J;
+  }
+  return J.determinant() <= 0;
 }
 
 bool OctreeLattice::displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const {
@@ -152,12 +198,10 @@ bool OctreeLattice::displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, E
   if (!in_unit_cube(t, kInsideTolerance)) return false;
   bool inside = false;
   for (int l = 0; l < num_levels(); ++l) {
-    Eigen::Vector3d dl;
-    Eigen::Matrix3d Jl;
     Tag fresh;  // the same computation as the batch apply's, without keeping it
-    if (!moved(l) || !tagged_part(l, x, t, false, fresh, dl, Jl)) continue;
-    d += dl;
-    if (jacobian) *jacobian += Jl;
+    if (!moved(l) || !tagged_part(l, x, t, false, jacobian != nullptr, fresh)) continue;
+    d += fresh.d;
+    if (jacobian) *jacobian += fresh.J;
     inside = true;
   }
   return inside;
@@ -215,7 +259,8 @@ void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, cons
 bool OctreeLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                           const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                                           WarpCounts& counts) const {
-  // The Jacobian is still summed, to count the folds apply() would count.
+  // The folds apply() would count are still counted: by the Jacobian parts' bounds, and
+  // by the parts themselves where the bounds cannot decide.
   apply_points(in_pos, nullptr, ids, out_pos, nullptr, counts);
   return true;
 }
@@ -236,17 +281,20 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     // Sums the levels' parts as displacement() does, locating the vertex in a grid level
     // only when its tag is not for this position.
     const bool same = (cache_key_.col(v).array() == x.array()).all();
-    Eigen::Vector3d d = Eigen::Vector3d::Zero(), dl;
-    Eigen::Matrix3d J = Eigen::Matrix3d::Identity(), Jl;
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+    double bound = 0;  // of |J - I|_2
     bool inside = false;
     if (in_unit_cube(t, kInsideTolerance))
       for (int l = 0; l < num_levels(); ++l) {
         if (!moved(l)) continue;
-        const std::uint32_t tag = tag_index_[static_cast<std::size_t>(l)][v];
-        if (tag == 0) continue;  // not in a cell the level marked active: its part is zero
-        if (!tagged_part(l, x, t, same, cache_[static_cast<std::size_t>(l)][tag - 1], dl, Jl)) continue;
-        d += dl;
-        J += Jl;
+        const std::uint32_t index = tag_index_[static_cast<std::size_t>(l)][v];
+        if (index == 0) continue;  // not in a cell the level marked active: its part is zero
+        Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
+        if (!tagged_part(l, x, t, same, out_nrm != nullptr, tag)) continue;
+        d += tag.d;
+        if (out_nrm) J += tag.J;
+        bound += tag.bound;
         inside = true;
       }
     cache_key_.col(v) = x;
@@ -256,8 +304,12 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
       continue;
     }
     out_pos.col(v) = x + d;
-    if (out_nrm) out_nrm->col(v) = transformed_normal(J, in_nrm->col(v));
-    folded += J.determinant() <= 0;
+    if (out_nrm) {
+      out_nrm->col(v) = transformed_normal(J, in_nrm->col(v));
+      folded += J.determinant() <= 0;
+    } else {
+      folded += jacobian_folded(v, bound);
+    }
     ++evaluated;
   }
   counts.folded += folded;
