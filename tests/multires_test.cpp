@@ -372,6 +372,41 @@ TEST(OctreeLattice, WithoutNormalsGivesTheZeroNormalApplysPositionsAndCounts) {
   EXPECT_GT(folded, 0u);  // the large move folded some cells: the counts compared are not all zero
 }
 
+TEST(OctreeLattice, AppliesWithAndWithoutNormalsShareTheirTags) {
+  // One lattice applied with normals after some moves and without after others (its tags
+  // then hold a Jacobian part or only its bound) gives what a lattice always applied with
+  // normals gives, positions, normals and counts, at every step.
+  BunnyLattice b;
+  OctreeLattice mixed(b.box, b.x, options(4, 2)), with(b.box, b.x, options(4, 2));
+  std::vector<std::uint32_t> ids(static_cast<std::size_t>(b.x.cols()));
+  std::iota(ids.begin(), ids.end(), 0u);
+  const Eigen::Matrix3Xd normals = b.mesh.rest_normals();
+  const double size = b.box.axes().colwise().norm().maxCoeff();
+  int step = 0;
+  std::size_t folded = 0;
+  for (const auto& [level, by] : {std::pair{0, 0.01}, {1, 0.3}, {2, 0.02}, {0, 0.02}, {4, 0.01}, {1, 0.02}, {2, 0.5}}) {
+    for (OctreeLattice* lattice : {&mixed, &with}) {
+      const GridComplex& g = lattice->complex(level);
+      move_one(*lattice, level, g.points[g.num_points() / 3], Eigen::Vector3d(by, -by, by / 2) * size);
+    }
+    Eigen::Matrix3Xd p_with(3, b.x.cols()), n_with(3, b.x.cols()), p_mixed(3, b.x.cols()), n_mixed(3, b.x.cols());
+    WarpCounts counts_with, counts_mixed;
+    with.apply(b.x, normals, ids, p_with, n_with, counts_with);
+    if (step % 3 == 1) {
+      mixed.apply(b.x, normals, ids, p_mixed, n_mixed, counts_mixed);
+      EXPECT_TRUE((n_with.array() == n_mixed.array()).all()) << step;
+    } else {
+      ASSERT_TRUE(mixed.apply_without_normals(b.x, ids, p_mixed, counts_mixed));
+    }
+    EXPECT_TRUE((p_with.array() == p_mixed.array()).all()) << step;
+    EXPECT_EQ(counts_with.folded, counts_mixed.folded) << step;
+    EXPECT_EQ(counts_with.evaluated, counts_mixed.evaluated) << step;
+    folded += counts_with.folded;
+    ++step;
+  }
+  EXPECT_GT(folded, 0u);  // the large moves fold: the bounds could not decide every vertex
+}
+
 TEST(OctreeLattice, LocalSubdivisionAgreesWithSubdividingTheWholeLevel) {
   // A move re-subdivides N_{S,3} only; the result is the whole level's subdivision (to
   // rounding: the whole level multiplies by merged stencils) for every n (the moves' image

@@ -499,6 +499,7 @@ std::size_t OctreeLattice::bytes() const {
     total += entry.level->bytes() + entry.marks.bytes();
   total += static_cast<std::size_t>(cache_key_.size()) * sizeof(double);
   for (const auto& tags : cache_) total += tags.capacity() * sizeof(Tag);
+  for (const auto& parts : jacobians_) total += parts.capacity() * sizeof(Eigen::Matrix3d);
   for (const auto& index : tag_index_) total += index.capacity() * sizeof(std::uint32_t);
   for (const Level& level : levels_) {
     for (const GridComplex& g : level.sub) total += g.bytes();

@@ -285,27 +285,27 @@ private:
   const Eigen::MatrixXd& deformation(int level) const;
   void size_cache(Eigen::Index vertices) const;
   /// Gives a tag to each vertex of `ids` (inside the box) that lies in a cell a moved level
-  /// marked active and has none there yet; serial, before the parallel apply.
-  void assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids) const;
+  /// marked active and has none there yet, and every tag room for its Jacobian part when
+  /// asked; serial, before the parallel apply.
+  void assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
+                   bool with_jacobians) const;
   /// apply(), and apply_without_normals() when in_nrm and out_nrm are null.
   void apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const;
   struct Tag;
-  bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool need_jacobian,
-                        Tag& tag) const;
-  bool tagged_local_part(int level, const Eigen::Vector3d& x, Tag& tag) const;
-  /// One level's part of F(x) - x (tag.d) and of dF/dx - I (tag.J, or only its bound when
-  /// the Jacobian is not needed and a bound is cheaper), at x with box coordinates t,
-  /// through the vertex's tag (`same`: the tag is for x; a fresh tag computes it from
-  /// scratch); false (d, J zero) when the level leaves x alone: not moved, or not near x.
-  bool tagged_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, bool need_jacobian,
-                   Tag& tag) const;
-  /// Makes a tag that holds only the bound of its Jacobian part hold the part itself.
-  void complete_jacobian(int level, Tag& tag) const;
-  /// Whether I + the sum of the levels' Jacobian parts at vertex v (those of its tags whose
-  /// `inside` is set, in level order) has a determinant <= 0; `bound`, the sum of their
-  /// bounds, decides it without the parts when it is small enough.
+  bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag,
+                        Eigen::Matrix3d* jacobian) const;
+  bool tagged_local_part(int level, const Eigen::Vector3d& x, Tag& tag, Eigen::Matrix3d* jacobian) const;
+  /// One level's part of F(x) - x (tag.d), at x with box coordinates t, through the
+  /// vertex's tag (`same`: the tag is for x; a fresh tag computes it from scratch), and of
+  /// dF/dx - I: a bound of its norm (tag.bound), and the part itself in `jacobian` when
+  /// given (its tag.jacobian says whether it already holds it); false (d, part zero) when
+  /// the level leaves x alone: not moved, or not near x.
+  bool tagged_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag,
+                   Eigen::Matrix3d* jacobian) const;
+  /// The level's part of dF/dx - I at a located tag, computed again.
+  Eigen::Matrix3d jacobian_part(int level, const Tag& tag) const;
   bool jacobian_folded(std::uint32_t v, double bound) const;
 
   Parallelepiped box_;
@@ -331,14 +331,13 @@ private:
   struct Tag {
     Eigen::Vector3d u = Eigen::Vector3d::Zero();
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d J = Eigen::Matrix3d::Zero();  // when `jacobian`
-    std::uint32_t epoch = 0;  // of d and J; 0: not computed
-    float bound = 0;          // a bound of |J|_2 (to float precision), whether or not J is held
+    std::uint32_t epoch = 0;  // of d and bound; 0: not computed
+    float bound = 0;          // a bound of the Jacobian part's 2-norm (to float precision)
     std::int32_t cell = -1, face = -1;  // face, slot: a local level's tetrahedron (u: its lambda 1..3)
     std::int8_t step = -1, slot = -1;
     std::uint8_t state = 0;  // 0: not located yet, 1: in a cell, 2: in none
-    bool inside = false;     // d and J are a part
-    bool jacobian = false;   // J holds the part (a first locate without normals holds only its bound)
+    bool inside = false;     // d is a part
+    bool jacobian = false;   // the tag's entry in jacobians_ holds the Jacobian part of this epoch
   };
   // Tags exist only where a level can move a vertex: per level, per vertex, 1 + the index
   // of its tag in cache_[level], or 0 when it has none (its cell was not active there when
@@ -347,6 +346,9 @@ private:
   mutable Eigen::Matrix3Xd cache_key_;
   mutable std::vector<std::vector<std::uint32_t>> tag_index_;
   mutable std::vector<std::vector<Tag>> cache_;
+  // The tags' Jacobian parts, by the same index, for the applies that carry normals: an
+  // apply without normals needs only the parts' bounds, and its tags are half the size.
+  mutable std::vector<std::vector<Eigen::Matrix3d>> jacobians_;
 };
 
 }  // namespace ffd

@@ -101,31 +101,30 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
 /// The slot, in a dense array over a grid with `res` cells per axis, of box coordinates t.
 static std::size_t grid_slot(const Eigen::Vector3d& t, int res) { return dense_cell(grid_cell_at(t, res), res); }
 
-bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same,
-                                bool need_jacobian, Tag& tag) const {
+bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag,
+                                Eigen::Matrix3d* jacobian) const {
   if (!same) tag = Tag{};
   const Marks& m = marks(l);
   const std::size_t slot = grid_slot(t, m.resolution);
   const std::uint32_t epoch = m.epochs[slot] + 1;
   if (tag.epoch == epoch) {  // nothing moved near the vertex at this level since
-    if (need_jacobian && tag.inside && !tag.jacobian) complete_jacobian(l, tag);
+    if (jacobian && tag.inside && !tag.jacobian) *jacobian = jacobian_part(l, tag), tag.jacobian = true;
     return tag.inside;
   }
   tag.epoch = epoch;
+  tag.d.setZero();
+  tag.bound = 0;
+  tag.jacobian = jacobian != nullptr;
+  if (jacobian) jacobian->setZero();
   if (!m.active[slot]) {  // outside the cells any move marked, the level's displacement is zero
-    tag.d.setZero(), tag.J.setZero();
-    tag.bound = 0, tag.jacobian = true;
     tag.inside = false;
   } else {
-    tag.inside = is_local(l) ? tagged_local_part(l, x, tag) : tagged_grid_part(l, x, t, need_jacobian, tag);
+    tag.inside = is_local(l) ? tagged_local_part(l, x, tag, jacobian) : tagged_grid_part(l, x, t, tag, jacobian);
   }
   return tag.inside;
 }
 
-bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag) const {
-  tag.d.setZero();
-  tag.J.setZero();
-  tag.bound = 0, tag.jacobian = true;
+bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag, Eigen::Matrix3d* jacobian) const {
   SubdividedLevel::Location where;
   if (tag.state == 0) {
     tag.state = local(l).locate(x, where) ? 1 : 2;
@@ -135,16 +134,15 @@ bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag)
   }
   if (tag.state != 1) return false;
   where = {tag.step, tag.cell, tag.face, tag.slot, Eigen::Vector4d(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2])};
-  tag.d = local(l).displacement(where, &tag.J);
-  tag.bound = static_cast<float>(tag.J.norm());
+  Eigen::Matrix3d part = Eigen::Matrix3d::Zero();
+  tag.d = local(l).displacement(where, &part);
+  tag.bound = static_cast<float>(part.norm());
+  if (jacobian) *jacobian = part;
   return true;
 }
 
-bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool need_jacobian,
-                                     Tag& tag) const {
-  tag.d.setZero();
-  tag.J.setZero();
-  tag.bound = 0, tag.jacobian = true;
+bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag,
+                                     Eigen::Matrix3d* jacobian) const {
   Eigen::Matrix3d dx_du;  // the rest cell's Jacobian, when located here
   bool located_here = false;
   if (tag.state == 0) {
@@ -156,24 +154,30 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
   }
   if (tag.state != 1) return false;
   const Location where{tag.step, tag.cell, tag.u};
-  if (located_here && !need_jacobian) {
+  if (located_here && !jacobian) {
     // A first move without normals: the locate's Jacobian bounds the part, and the part
     // itself is computed only if the bounds cannot decide the vertex's fold.
     double bound;
     tag.d = displacement(l, where, nullptr, &dx_du, &bound);
     tag.bound = static_cast<float>(bound);
-    tag.jacobian = false;
     return true;
   }
-  tag.d = displacement(l, where, &tag.J);
-  tag.bound = static_cast<float>(tag.J.norm());
+  Eigen::Matrix3d part = Eigen::Matrix3d::Zero();
+  tag.d = displacement(l, where, &part);
+  tag.bound = static_cast<float>(part.norm());
+  if (jacobian) *jacobian = part;
   return true;
 }
 
-void OctreeLattice::complete_jacobian(int l, Tag& tag) const {
-  tag.J.setZero();
-  displacement(l, Location{tag.step, tag.cell, tag.u}, &tag.J);
-  tag.jacobian = true;
+Eigen::Matrix3d OctreeLattice::jacobian_part(int l, const Tag& tag) const {
+  Eigen::Matrix3d part = Eigen::Matrix3d::Zero();
+  if (is_local(l)) {
+    const Eigen::Vector4d lambda(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2]);
+    local(l).displacement({tag.step, tag.cell, tag.face, tag.slot, lambda}, &part);
+  } else {
+    displacement(l, Location{tag.step, tag.cell, tag.u}, &part);
+  }
+  return part;
 }
 
 bool OctreeLattice::jacobian_folded(std::uint32_t v, double bound) const {
@@ -183,10 +187,8 @@ bool OctreeLattice::jacobian_folded(std::uint32_t v, double bound) const {
     if (!moved(l)) continue;
     const std::uint32_t index = tag_index_[static_cast<std::size_t>(l)][v];
     if (index == 0) continue;
-    Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
-    if (!tag.inside) continue;
-    if (!tag.jacobian) complete_jacobian(l, tag);
-    J += tag.J;
+    const Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
+    if (tag.inside) J += jacobian_part(l, tag);
   }
   return J.determinant() <= 0;
 }
@@ -199,9 +201,10 @@ bool OctreeLattice::displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, E
   bool inside = false;
   for (int l = 0; l < num_levels(); ++l) {
     Tag fresh;  // the same computation as the batch apply's, without keeping it
-    if (!moved(l) || !tagged_part(l, x, t, false, jacobian != nullptr, fresh)) continue;
+    Eigen::Matrix3d part;
+    if (!moved(l) || !tagged_part(l, x, t, false, fresh, jacobian ? &part : nullptr)) continue;
     d += fresh.d;
-    if (jacobian) *jacobian += fresh.J;
+    if (jacobian) *jacobian += part;
     inside = true;
   }
   return inside;
@@ -221,6 +224,7 @@ void OctreeLattice::size_cache(Eigen::Index vertices) const {
   }
   const auto levels = static_cast<std::size_t>(num_levels());
   cache_.resize(levels);
+  jacobians_.resize(levels);
   tag_index_.resize(levels);
   for (std::size_t l = 0; l < levels; ++l)
     if (moved(static_cast<int>(l)) && tag_index_[l].size() < static_cast<std::size_t>(vertices))
@@ -228,7 +232,7 @@ void OctreeLattice::size_cache(Eigen::Index vertices) const {
 }
 
 void OctreeLattice::assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                                const std::vector<std::uint32_t>& ids) const {
+                                const std::vector<std::uint32_t>& ids, bool with_jacobians) const {
   for (int l = 0; l < num_levels(); ++l) {
     if (!moved(l)) continue;
     std::vector<std::uint32_t>& index = tag_index_[static_cast<std::size_t>(l)];
@@ -247,6 +251,7 @@ void OctreeLattice::assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos
       }
     }
     tags.resize(count);  // one allocation: the new tags, not yet located
+    if (with_jacobians) jacobians_[static_cast<std::size_t>(l)].resize(count);
   }
 }
 
@@ -270,7 +275,7 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
                                  Eigen::Ref<Eigen::Matrix3Xd> out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
                                  WarpCounts& counts) const {
   size_cache(in_pos.cols());
-  assign_tags(in_pos, ids);
+  assign_tags(in_pos, ids, out_nrm != nullptr);
   std::size_t folded = 0, evaluated = 0;
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size());
 #pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
@@ -291,9 +296,10 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
         const std::uint32_t index = tag_index_[static_cast<std::size_t>(l)][v];
         if (index == 0) continue;  // not in a cell the level marked active: its part is zero
         Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
-        if (!tagged_part(l, x, t, same, out_nrm != nullptr, tag)) continue;
+        Eigen::Matrix3d* part = out_nrm ? &jacobians_[static_cast<std::size_t>(l)][index - 1] : nullptr;
+        if (!tagged_part(l, x, t, same, tag, part)) continue;
         d += tag.d;
-        if (out_nrm) J += tag.J;
+        if (out_nrm) J += *part;
         bound += tag.bound;
         inside = true;
       }
