@@ -270,10 +270,10 @@ private:
   void update_by_rows(int level, const std::vector<std::int32_t>& ids);
   void mark_changed(int level, const std::vector<std::int32_t>& ids, OctreeMove& report);
   /// The grid level's displacement at `where`; `jacobian`, when given, gains its gradient
-  /// (the level's part of dF/dx - I); `bound`, when given, receives a bound of that
-  /// gradient's 2-norm from the rest cell's Jacobian `dx_du` there.
+  /// (the level's part of dF/dx - I); `bound2`, when given, receives the square of a bound
+  /// of that gradient's 2-norm from the rest cell's Jacobian `dx_du` there.
   Eigen::Vector3d displacement(int level, const Location& where, Eigen::Matrix3d* jacobian,
-                               const Eigen::Matrix3d* dx_du = nullptr, double* bound = nullptr) const;
+                               const Eigen::Matrix3d* dx_du = nullptr, double* bound2 = nullptr) const;
   /// F(x) - x summed over the moved levels, and whether x lies in a cell where some
   /// level's displacement may be non-zero (if not, F(x) = x exactly).
   bool displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const;
@@ -299,14 +299,17 @@ private:
   bool tagged_local_part(int level, const Eigen::Vector3d& x, Tag& tag, Eigen::Matrix3d* jacobian) const;
   /// One level's part of F(x) - x (tag.d), at x with box coordinates t, through the
   /// vertex's tag (`same`: the tag is for x; a fresh tag computes it from scratch), and of
-  /// dF/dx - I: a bound of its norm (tag.bound), and the part itself in `jacobian` when
-  /// given (its tag.jacobian says whether it already holds it); false (d, part zero) when
-  /// the level leaves x alone: not moved, or not near x.
+  /// dF/dx - I: a bound of its norm, squared (tag.bound2), and the part itself in
+  /// `jacobian` when given (its tag.jacobian says whether it already holds it); false (d,
+  /// part zero) when the level leaves x alone: not moved, or not near x.
   bool tagged_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag,
                    Eigen::Matrix3d* jacobian) const;
   /// The level's part of dF/dx - I at a located tag, computed again.
   Eigen::Matrix3d jacobian_part(int level, const Tag& tag) const;
-  bool jacobian_folded(std::uint32_t v, double bound) const;
+  /// Whether I + the sum of the levels' Jacobian parts at vertex v (those of its tags whose
+  /// `inside` is set, in level order) has a determinant <= 0; `bound2`, the square of a
+  /// bound of that sum's 2-norm, decides it without the parts when it is small enough.
+  bool jacobian_folded(std::uint32_t v, double bound2) const;
 
   Parallelepiped box_;
   OctreeOptions options_;
@@ -331,8 +334,8 @@ private:
   struct Tag {
     Eigen::Vector3d u = Eigen::Vector3d::Zero();
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
-    std::uint32_t epoch = 0;  // of d and bound; 0: not computed
-    float bound = 0;          // a bound of the Jacobian part's 2-norm (to float precision)
+    std::uint32_t epoch = 0;  // of d and bound2; 0: not computed
+    float bound2 = 0;         // the square of a bound of the Jacobian part's 2-norm (to float precision)
     std::int32_t cell = -1, face = -1;  // face, slot: a local level's tetrahedron (u: its lambda 1..3)
     std::int8_t step = -1, slot = -1;
     std::uint8_t state = 0;  // 0: not located yet, 1: in a cell, 2: in none

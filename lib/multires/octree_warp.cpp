@@ -15,10 +15,10 @@ namespace {
 
 constexpr double kInsideTolerance = 1e-9;
 constexpr int kMaxWalk = 8;
-// Below this, the sum of a vertex's Jacobian parts' bounds decides that I + their sum has
-// a positive determinant: for |A|_2 < 1, I + tA is invertible for every t in [0, 1], so
-// det(I + A) keeps det(I)'s sign; at 0.5 it is at least 1/8, far above the rounding of
-// the determinant apply() computes.
+// Below this, a bound of the 2-norm of the sum A of a vertex's Jacobian parts decides that
+// I + A has a positive determinant: for |A|_2 < 1, I + tA is invertible for every t in
+// [0, 1], so det(I + A) keeps det(I)'s sign; at 0.5 it is at least 1/8, far above the
+// rounding of the determinant apply() computes.
 constexpr double kFoldFreeBound = 0.5;
 
 // A grid node (coordinates in [0, 2^20)) as a number that orders nodes by (k, j, i), the
@@ -29,6 +29,15 @@ std::int64_t node_key(const GridIndex& n) {
 GridIndex key_node(std::int64_t key) {
   const std::int64_t mask = (1 << 20) - 1;
   return {static_cast<int>(key & mask), static_cast<int>((key >> 20) & mask), static_cast<int>(key >> 40)};
+}
+
+/// jacobian += (dD/du) (dx/du)^-1, the gradient of a cell's trilinear displacement, with
+/// dx/du from the rest cell's corners Q. Out of line, so that where gcc fuses its products
+/// into sums (its rounding) does not depend on the code around a caller.
+[[gnu::noinline]] void add_displacement_gradient(const CellCorners& D, const CellCorners& Q,
+                                                 const Eigen::Matrix<double, 8, 3>& dw, Eigen::Matrix3d& jacobian) {
+  const Eigen::Matrix3d dx_du = Q * dw;
+  jacobian += (D * dw) * dx_du.inverse();
 }
 
 CellCorners corners_of(const StepGrid& g, const Eigen::Matrix3Xd& positions, std::int32_t cell) {
@@ -74,7 +83,7 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3
 }
 
 Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen::Matrix3d* jacobian,
-                                            const Eigen::Matrix3d* dx_du, double* bound) const {
+                                            const Eigen::Matrix3d* dx_du, double* bound2) const {
   const Level& level = levels_[l];
   const StepGrid g = level.step_grid(where.step);
   double w[8];
@@ -87,13 +96,12 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
   for (int c = 0; c < 8; ++c) D.col(c) = disp.col(corner[c]);
   Eigen::Vector3d d = Eigen::Vector3d::Zero();
   for (int c = 0; c < 8; ++c) d += w[c] * D.col(c);
-  if (bound) *bound = displacement_gradient_bound(D, *dx_du);
+  if (bound2) *bound2 = squared_gradient_bound(D, *dx_du);
   if (jacobian) {
     // dF/dx = I + (dD/du) (dx/du)^-1, dx/du from the rest cell.
     CellCorners Q;
     for (int c = 0; c < 8; ++c) Q.col(c) = level.fine[where.step].col(corner[c]);
-    const Eigen::Matrix3d dx_du = Q * dw;
-    *jacobian += (D * dw) * dx_du.inverse();
+    add_displacement_gradient(D, Q, dw, *jacobian);
   }
   return d;
 }
@@ -113,7 +121,7 @@ bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Ve
   }
   tag.epoch = epoch;
   tag.d.setZero();
-  tag.bound = 0;
+  tag.bound2 = 0;
   tag.jacobian = jacobian != nullptr;
   if (jacobian) jacobian->setZero();
   if (!m.active[slot]) {  // outside the cells any move marked, the level's displacement is zero
@@ -136,7 +144,7 @@ bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag,
   where = {tag.step, tag.cell, tag.face, tag.slot, Eigen::Vector4d(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2])};
   Eigen::Matrix3d part = Eigen::Matrix3d::Zero();
   tag.d = local(l).displacement(where, &part);
-  tag.bound = static_cast<float>(part.norm());
+  tag.bound2 = static_cast<float>(part.squaredNorm());
   if (jacobian) *jacobian = part;
   return true;
 }
@@ -157,14 +165,14 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
   if (located_here && !jacobian) {
     // A first move without normals: the locate's Jacobian bounds the part, and the part
     // itself is computed only if the bounds cannot decide the vertex's fold.
-    double bound;
-    tag.d = displacement(l, where, nullptr, &dx_du, &bound);
-    tag.bound = static_cast<float>(bound);
+    double bound2;
+    tag.d = displacement(l, where, nullptr, &dx_du, &bound2);
+    tag.bound2 = static_cast<float>(bound2);
     return true;
   }
   Eigen::Matrix3d part = Eigen::Matrix3d::Zero();
   tag.d = displacement(l, where, &part);
-  tag.bound = static_cast<float>(part.norm());
+  tag.bound2 = static_cast<float>(part.squaredNorm());
   if (jacobian) *jacobian = part;
   return true;
 }
@@ -180,8 +188,8 @@ Eigen::Matrix3d OctreeLattice::jacobian_part(int l, const Tag& tag) const {
   return part;
 }
 
-bool OctreeLattice::jacobian_folded(std::uint32_t v, double bound) const {
-  if (bound < kFoldFreeBound) return false;
+bool OctreeLattice::jacobian_folded(std::uint32_t v, double bound2) const {
+  if (bound2 < kFoldFreeBound * kFoldFreeBound) return false;
   Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
   for (int l = 0; l < num_levels(); ++l) {
     if (!moved(l)) continue;
@@ -288,7 +296,8 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     const bool same = (cache_key_.col(v).array() == x.array()).all();
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
     Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
-    double bound = 0;  // of |J - I|_2
+    double bound2 = 0;  // the sum of the parts' squared bounds
+    int parts = 0;
     bool inside = false;
     if (in_unit_cube(t, kInsideTolerance))
       for (int l = 0; l < num_levels(); ++l) {
@@ -300,7 +309,8 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
         if (!tagged_part(l, x, t, same, tag, part)) continue;
         d += tag.d;
         if (out_nrm) J += *part;
-        bound += tag.bound;
+        bound2 += tag.bound2;
+        ++parts;
         inside = true;
       }
     cache_key_.col(v) = x;
@@ -314,7 +324,7 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
       out_nrm->col(v) = transformed_normal(J, in_nrm->col(v));
       folded += J.determinant() <= 0;
     } else {
-      folded += jacobian_folded(v, bound);
+      folded += jacobian_folded(v, parts * bound2);  // (sum of bounds)^2 <= parts * sum of squares
     }
     ++evaluated;
   }
