@@ -40,6 +40,12 @@ GridIndex key_node(std::int64_t key) {
   jacobian += (D * dw) * dx_du.inverse();
 }
 
+/// transformed_normal, and whether J folds space, out of line for the same reason.
+[[gnu::noinline]] Eigen::Vector3d normal_through(const Eigen::Matrix3d& J, const Eigen::Vector3d& n) {
+  return transformed_normal(J, n);
+}
+[[gnu::noinline]] bool folds(const Eigen::Matrix3d& J) { return J.determinant() <= 0; }
+
 CellCorners corners_of(const StepGrid& g, const Eigen::Matrix3Xd& positions, std::int32_t cell) {
   CellCorners Q;
   for (int c = 0; c < 8; ++c) Q.col(c) = positions.col(g.corner(cell, c));
@@ -198,7 +204,7 @@ bool OctreeLattice::jacobian_folded(std::uint32_t v, double bound2) const {
     const Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
     if (tag.inside) J += jacobian_part(l, tag);
   }
-  return J.determinant() <= 0;
+  return folds(J);
 }
 
 bool OctreeLattice::displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const {
@@ -321,8 +327,8 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     }
     out_pos.col(v) = x + d;
     if (out_nrm) {
-      out_nrm->col(v) = transformed_normal(J, in_nrm->col(v));
-      folded += J.determinant() <= 0;
+      out_nrm->col(v) = normal_through(J, in_nrm->col(v));
+      folded += folds(J);
     } else {
       folded += jacobian_folded(v, parts * bound2);  // (sum of bounds)^2 <= parts * sum of squares
     }
