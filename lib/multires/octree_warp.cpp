@@ -122,7 +122,10 @@ bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Ve
   const std::size_t slot = grid_slot(t, m.resolution);
   const std::uint32_t epoch = m.epochs[slot] + 1;
   if (tag.epoch == epoch) {  // nothing moved near the vertex at this level since
-    if (jacobian && tag.inside && !tag.jacobian) *jacobian = jacobian_part(l, tag), tag.jacobian = true;
+    if (jacobian && tag.inside && !tag.jacobian) {  // an apply without normals left only the bound
+      *jacobian = jacobian_part(l, tag);
+      tag.jacobian = true;
+    }
     return tag.inside;
   }
   tag.epoch = epoch;
