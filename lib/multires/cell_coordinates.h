@@ -19,7 +19,7 @@ Eigen::Vector3d trilinear(const CellCorners& Q, const Eigen::Vector3d& u, Eigen:
 
 /// A^-1 b by Gaussian elimination with partial pivoting: Eigen 3.4's
 /// `A.partialPivLu().solve(b)` for a 3 x 3, operation for operation, so with the same bits,
-/// without its out-of-line factorization (a third of a Newton step's time).
+/// without the generic factorization it calls out of line for each Newton step.
 Eigen::Vector3d pivoted_solve(const Eigen::Matrix3d& A, const Eigen::Vector3d& b);
 
 /// The u with trilinear(Q, u) = x, by Newton's method with a line search from `guess`
@@ -39,8 +39,8 @@ bool inverse_trilinear(const CellCorners& Q, const Eigen::Vector3d& x, Eigen::Ve
 /// Squared, so that it takes no square root. Infinite when dx_du is singular. Inline: it
 /// reads D where the caller just gathered it.
 inline double squared_gradient_bound(const CellCorners& D, const Eigen::Matrix3d& dx_du) {
-  // The edges' squared lengths four at a time, coordinate by coordinate (corner c: bit 0
-  // +u, bit 1 +v, bit 2 +w), so that each axis is a few vector operations.
+  // The edges' squared lengths, coordinate by coordinate (corner c: bit 0 +u, bit 1 +v,
+  // bit 2 +w).
   double along[3][4] = {};
   for (int i = 0; i < 3; ++i) {
     double row[8];
