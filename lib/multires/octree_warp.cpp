@@ -16,10 +16,15 @@ namespace {
 constexpr double kInsideTolerance = 1e-9;
 constexpr int kMaxWalk = 8;
 // Below this, a bound of the 2-norm of the sum A of a vertex's Jacobian parts decides that
-// I + A has a positive determinant: for |A|_2 < 1, I + tA is invertible for every t in
-// [0, 1], so det(I + A) keeps det(I)'s sign; at 0.5 it is at least 1/8, far above the
-// rounding of the determinant apply() computes.
-constexpr double kFoldFreeBound = 0.5;
+// I + A has a positive determinant: for |A|_2 <= b < 1, every singular value of I + A is at
+// least 1 - b, and I + tA is invertible for every t in [0, 1], so det(I + A) >= (1 - b)^3
+// keeps det(I)'s sign; at 0.75 that is 1/64, far above the rounding of the determinant
+// apply() computes.
+constexpr double kFoldFreeBound = 0.75;
+// A first locate's part whose cheap bound (squared_gradient_bound, about 2-3 times the
+// norm) exceeds this is bounded by its own norm instead: the few vertices near a fine
+// level's moved points, whose summed cheap bounds would otherwise send them to the parts.
+constexpr double kTightenAbove = 0.1;
 
 // A grid node (coordinates in [0, 2^20)) as a number that orders nodes by (k, j, i), the
 // order of a GridComplex's points.
@@ -177,6 +182,7 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
     double bound2;
     tag.d = displacement(l, where, nullptr, &dx_du, &bound2);
     tag.bound2 = static_cast<float>(bound2);
+    if (bound2 > kTightenAbove * kTightenAbove) tag.bound2 = static_cast<float>(jacobian_part(l, tag).squaredNorm());
     return true;
   }
   Eigen::Matrix3d part = Eigen::Matrix3d::Zero();
@@ -199,14 +205,21 @@ Eigen::Matrix3d OctreeLattice::jacobian_part(int l, const Tag& tag) const {
 
 bool OctreeLattice::jacobian_folded(std::uint32_t v, double bound2) const {
   if (bound2 < kFoldFreeBound * kFoldFreeBound) return false;
+  // Cauchy-Schwarz could not decide: the plain sum of the parts' bounds, then the parts.
+  const auto each_part = [&](const auto& visit) {
+    for (int l = 0; l < num_levels(); ++l) {
+      if (!moved(l)) continue;
+      const std::uint32_t index = tag_index_[static_cast<std::size_t>(l)][v];
+      if (index == 0) continue;
+      const Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
+      if (tag.inside) visit(l, tag);
+    }
+  };
+  double bound = 0;
+  each_part([&](int, const Tag& tag) { bound += std::sqrt(static_cast<double>(tag.bound2)); });
+  if (bound < kFoldFreeBound) return false;
   Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
-  for (int l = 0; l < num_levels(); ++l) {
-    if (!moved(l)) continue;
-    const std::uint32_t index = tag_index_[static_cast<std::size_t>(l)][v];
-    if (index == 0) continue;
-    const Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
-    if (tag.inside) J += jacobian_part(l, tag);
-  }
+  each_part([&](int l, const Tag& tag) { J += jacobian_part(l, tag); });
   return folds(J);
 }
 
