@@ -36,20 +36,18 @@ GridIndex key_node(std::int64_t key) {
   return {static_cast<int>(key & mask), static_cast<int>((key >> 20) & mask), static_cast<int>(key >> 40)};
 }
 
-/// jacobian += (dD/du) (dx/du)^-1, the gradient of a cell's trilinear displacement, with
-/// dx/du from the rest cell's corners Q. Out of line, so that where gcc fuses its products
-/// into sums (its rounding) does not depend on the code around a caller.
-[[gnu::noinline]] void add_displacement_gradient(const CellCorners& D, const CellCorners& Q,
-                                                 const Eigen::Matrix<double, 8, 3>& dw, Eigen::Matrix3d& jacobian) {
-  const Eigen::Matrix3d dx_du = Q * dw;
-  jacobian += (D * dw) * dx_du.inverse();
+/// squared_gradient_bound, out of line: displacement() keeps the arithmetic it had before
+/// the bound, so that gcc fuses its Jacobian's products into sums as it did (the bound's
+/// code inlined beside them had moved normals by an ulp).
+[[gnu::noinline]] double bound_of(const CellCorners& D, const Eigen::Matrix3d& dx_du) {
+  return squared_gradient_bound(D, dx_du);
 }
 
-/// transformed_normal, and whether J folds space, out of line for the same reason.
+/// transformed_normal, out of line: inlined in the apply's loop, gcc kept two of its
+/// products on the stack and reloaded them as one vector (a store-forwarding stall).
 [[gnu::noinline]] Eigen::Vector3d normal_through(const Eigen::Matrix3d& J, const Eigen::Vector3d& n) {
   return transformed_normal(J, n);
 }
-[[gnu::noinline]] bool folds(const Eigen::Matrix3d& J) { return J.determinant() <= 0; }
 
 CellCorners corners_of(const StepGrid& g, const Eigen::Matrix3Xd& positions, std::int32_t cell) {
   CellCorners Q;
@@ -107,12 +105,13 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
   for (int c = 0; c < 8; ++c) D.col(c) = disp.col(corner[c]);
   Eigen::Vector3d d = Eigen::Vector3d::Zero();
   for (int c = 0; c < 8; ++c) d += w[c] * D.col(c);
-  if (bound2) *bound2 = squared_gradient_bound(D, *dx_du);
+  if (bound2) *bound2 = bound_of(D, *dx_du);
   if (jacobian) {
     // dF/dx = I + (dD/du) (dx/du)^-1, dx/du from the rest cell.
     CellCorners Q;
     for (int c = 0; c < 8; ++c) Q.col(c) = level.fine[where.step].col(corner[c]);
-    add_displacement_gradient(D, Q, dw, *jacobian);
+    const Eigen::Matrix3d dx_du_rest = Q * dw;
+    *jacobian += (D * dw) * dx_du_rest.inverse();
   }
   return d;
 }
@@ -137,7 +136,6 @@ bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Ve
   tag.d.setZero();
   tag.bound2 = 0;
   tag.jacobian = jacobian != nullptr;
-  if (jacobian) jacobian->setZero();
   if (!m.active[slot]) {  // outside the cells any move marked, the level's displacement is zero
     tag.inside = false;
   } else {
@@ -156,10 +154,11 @@ bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag,
   }
   if (tag.state != 1) return false;
   where = {tag.step, tag.cell, tag.face, tag.slot, Eigen::Vector4d(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2])};
-  Eigen::Matrix3d part = Eigen::Matrix3d::Zero();
-  tag.d = local(l).displacement(where, &part);
-  tag.bound2 = static_cast<float>(part.squaredNorm());
-  if (jacobian) *jacobian = part;
+  Eigen::Matrix3d part;
+  Eigen::Matrix3d& J = jacobian ? *jacobian : part;
+  J.setZero();
+  tag.d = local(l).displacement(where, &J);
+  tag.bound2 = static_cast<float>(J.squaredNorm());
   return true;
 }
 
@@ -185,10 +184,11 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
     if (bound2 > kTightenAbove * kTightenAbove) tag.bound2 = static_cast<float>(jacobian_part(l, tag).squaredNorm());
     return true;
   }
-  Eigen::Matrix3d part = Eigen::Matrix3d::Zero();
-  tag.d = displacement(l, where, &part);
-  tag.bound2 = static_cast<float>(part.squaredNorm());
-  if (jacobian) *jacobian = part;
+  Eigen::Matrix3d part;  // where the part goes: the caller's, or here to bound it
+  Eigen::Matrix3d& J = jacobian ? *jacobian : part;
+  J.setZero();
+  tag.d = displacement(l, where, &J);
+  tag.bound2 = static_cast<float>(J.squaredNorm());
   return true;
 }
 
@@ -220,7 +220,7 @@ bool OctreeLattice::jacobian_folded(std::uint32_t v, double bound2) const {
   if (bound < kFoldFreeBound) return false;
   Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
   each_part([&](int l, const Tag& tag) { J += jacobian_part(l, tag); });
-  return folds(J);
+  return J.determinant() <= 0;
 }
 
 bool OctreeLattice::displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const {
@@ -318,9 +318,8 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     const bool same = (cache_key_.col(v).array() == x.array()).all();
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
     Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
-    double bound2 = 0;  // the sum of the parts' squared bounds
+    double bound2 = 0;  // without normals: the sum of the parts' squared bounds
     int parts = 0;
-    bool inside = false;
     if (in_unit_cube(t, kInsideTolerance))
       for (int l = 0; l < num_levels(); ++l) {
         if (!moved(l)) continue;
@@ -330,13 +329,14 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
         Eigen::Matrix3d* part = out_nrm ? &jacobians_[static_cast<std::size_t>(l)][index - 1] : nullptr;
         if (!tagged_part(l, x, t, same, tag, part)) continue;
         d += tag.d;
-        if (out_nrm) J += *part;
-        bound2 += tag.bound2;
+        if (out_nrm)
+          J += *part;
+        else
+          bound2 += tag.bound2;
         ++parts;
-        inside = true;
       }
     cache_key_.col(v) = x;
-    if (!inside) {  // in no cell where a level moved: untouched, bit for bit
+    if (parts == 0) {  // in no cell where a level moved: untouched, bit for bit
       out_pos.col(v) = x;
       if (out_nrm) out_nrm->col(v) = in_nrm->col(v);
       continue;
@@ -344,7 +344,7 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     out_pos.col(v) = x + d;
     if (out_nrm) {
       out_nrm->col(v) = normal_through(J, in_nrm->col(v));
-      folded += folds(J);
+      folded += J.determinant() <= 0;
     } else {
       folded += jacobian_folded(v, parts * bound2);  // (sum of bounds)^2 <= parts * sum of squares
     }
