@@ -304,6 +304,12 @@ private:
   /// part zero) when the level leaves x alone: not moved, or not near x.
   bool tagged_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag,
                    Eigen::Matrix3d* jacobian) const;
+  /// The level's part of F(x) - x at a located tag, and `jacobian` gains its part of
+  /// dF/dx - I when given: the grid or local level's displacement at the tag's place.
+  Eigen::Vector3d part_at(int level, const Tag& tag, Eigen::Matrix3d* jacobian) const;
+  /// tag.d, and tag.bound2 from the Jacobian part itself, which `jacobian` receives when
+  /// given (the part computed exactly, not bounded from the locate).
+  void exact_part(int level, Tag& tag, Eigen::Matrix3d* jacobian) const;
   /// The level's part of dF/dx - I at a located tag, computed again.
   Eigen::Matrix3d jacobian_part(int level, const Tag& tag) const;
   /// Whether I + the sum of the levels' Jacobian parts at vertex v (those of its tags whose

@@ -153,12 +153,7 @@ bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag,
     tag.step = static_cast<std::int8_t>(where.step), tag.slot = static_cast<std::int8_t>(where.slot);
   }
   if (tag.state != 1) return false;
-  where = {tag.step, tag.cell, tag.face, tag.slot, Eigen::Vector4d(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2])};
-  Eigen::Matrix3d part;
-  Eigen::Matrix3d& J = jacobian ? *jacobian : part;
-  J.setZero();
-  tag.d = local(l).displacement(where, &J);
-  tag.bound2 = static_cast<float>(J.squaredNorm());
+  exact_part(l, tag, jacobian);
   return true;
 }
 
@@ -184,22 +179,27 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
     if (bound2 > kTightenAbove * kTightenAbove) tag.bound2 = static_cast<float>(jacobian_part(l, tag).squaredNorm());
     return true;
   }
+  exact_part(l, tag, jacobian);
+  return true;
+}
+
+[[gnu::always_inline]] inline Eigen::Vector3d OctreeLattice::part_at(int l, const Tag& tag, Eigen::Matrix3d* jacobian) const {
+  if (!is_local(l)) return displacement(l, Location{tag.step, tag.cell, tag.u}, jacobian);
+  const Eigen::Vector4d lambda(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2]);
+  return local(l).displacement({tag.step, tag.cell, tag.face, tag.slot, lambda}, jacobian);
+}
+
+[[gnu::always_inline]] inline void OctreeLattice::exact_part(int l, Tag& tag, Eigen::Matrix3d* jacobian) const {
   Eigen::Matrix3d part;  // where the part goes: the caller's, or here to bound it
   Eigen::Matrix3d& J = jacobian ? *jacobian : part;
   J.setZero();
-  tag.d = displacement(l, where, &J);
+  tag.d = part_at(l, tag, &J);
   tag.bound2 = static_cast<float>(J.squaredNorm());
-  return true;
 }
 
 Eigen::Matrix3d OctreeLattice::jacobian_part(int l, const Tag& tag) const {
   Eigen::Matrix3d part = Eigen::Matrix3d::Zero();
-  if (is_local(l)) {
-    const Eigen::Vector4d lambda(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2]);
-    local(l).displacement({tag.step, tag.cell, tag.face, tag.slot, lambda}, &part);
-  } else {
-    displacement(l, Location{tag.step, tag.cell, tag.u}, &part);
-  }
+  part_at(l, tag, &part);
   return part;
 }
 
