@@ -12,6 +12,7 @@
 #include "multires/cell_complex.h"
 #include "multires/cell_coordinates.h"
 #include "multires/octree_lattice.h"
+#include "multires/trilinear_lanes.h"
 #include "multires/volume_subdivision.h"
 #include "support/eigen_lu.h"
 #include "test_meshes.h"
@@ -94,6 +95,63 @@ TEST(CellCoordinates, PivotedSolveIsEigensPartialPivLuBitForBit) {
     ++compared;
   }
   EXPECT_GT(compared, 150000u);
+}
+
+TEST(CellCoordinates, TheLanesLocateBitForBitAsInverseTrilinear) {
+  // Cells from nearly regular (the octree's subdivided rest cells, one Newton step or two)
+  // to bent by a third of their edge, scaled over 2^-12..2^12, a few flat or collapsed;
+  // points inside and outside, guesses exact to far. Where the lanes decide, the scalar
+  // inverse_trilinear returns true with the same bits of u and dx_du.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0), around(-0.3, 1.3);
+  std::size_t decided = 0, total = 0;
+  for (int n = 0; n < 40000; ++n) {
+    TrilinearLanes lanes;
+    CellCorners Q[TrilinearLanes::kLanes];
+    Eigen::Vector3d x[TrilinearLanes::kLanes], guess[TrilinearLanes::kLanes];
+    const int lanes_used = 1 + n % TrilinearLanes::kLanes;
+    for (int lane = 0; lane < lanes_used; ++lane) {
+      const int kind = (n + lane) % 8;
+      const double size = std::ldexp(1.0, static_cast<int>(rng() % 25) - 12);
+      const double bend = kind < 4 ? std::ldexp(1.0, -4 * kind - 6) : kind < 7 ? 1.0 / 3 : 0.0;
+      std::uniform_real_distribution<double> offset(-bend, bend);
+      const Eigen::Vector3d origin(around(rng), around(rng), around(rng));
+      for (int c = 0; c < 8; ++c) {
+        const Eigen::Vector3d corner((c & 1) ? 1.0 : 0.0, (c & 2) ? 1.0 : 0.0, (c & 4) ? 1.0 : 0.0);
+        Q[lane].col(c) = size * (origin + corner + Eigen::Vector3d(offset(rng), offset(rng), offset(rng)));
+      }
+      if (kind == 7) Q[lane].col(rng() % 8) = Q[lane].col(rng() % 8);  // a collapsed edge, or none
+      if (n % 97 == 0) Q[lane].row(2).setConstant(size);               // flat: singular
+      const Eigen::Vector3d u(around(rng), around(rng), around(rng));
+      x[lane] = trilinear(Q[lane], u, nullptr);
+      guess[lane] = n % 3 == 0 ? Eigen::Vector3d(unit(rng), unit(rng), unit(rng))
+                               : (u + Eigen::Vector3d::Constant(std::ldexp(1.0, -(n % 40)))).cwiseMax(0.0).cwiseMin(1.0);
+      const std::int32_t corner[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+      lanes.set_cell(lane, Q[lane], corner);
+      lanes.set_point(lane, x[lane], guess[lane]);
+    }
+    lanes.pad(lanes_used);
+    inverse_trilinear(lanes);
+    for (int lane = 0; lane < lanes_used; ++lane) {
+      Eigen::Vector3d u;
+      Eigen::Matrix3d J;
+      const bool converged = inverse_trilinear(Q[lane], x[lane], u, guess[lane], &J);
+      ++total;
+      if (!lanes.decided[lane]) continue;
+      ++decided;
+      ASSERT_TRUE(converged) << n << " lane " << lane;
+      const Eigen::Vector3d lane_u = lanes.u_of(lane);
+      Eigen::Matrix3d lane_J;
+      lanes.get_dx_du(lane, lane_J);
+      ASSERT_EQ(std::memcmp(u.data(), lane_u.data(), sizeof(double) * 3), 0)
+          << n << " lane " << lane << "\nQ =\n" << Q[lane] << "\nscalar " << u.transpose() << "\nlanes  "
+          << lane_u.transpose();
+      ASSERT_EQ(std::memcmp(J.data(), lane_J.data(), sizeof(double) * 9), 0)
+          << n << " lane " << lane << "\nscalar\n" << J << "\nlanes\n" << lane_J;
+    }
+  }
+  std::printf("[lanes] decided %zu of %zu\n", decided, total);
+  EXPECT_GT(decided, total * 3 / 4);
 }
 
 TEST(CellCoordinates, TheDisplacementGradientBoundHoldsAnywhereInTheCell) {
@@ -405,6 +463,39 @@ TEST(OctreeLattice, AppliesWithAndWithoutNormalsShareTheirTags) {
     ++step;
   }
   EXPECT_GT(folded, 0u);  // the large moves fold: the bounds could not decide every vertex
+}
+
+TEST(OctreeLattice, TheBatchApplyLocatesAsThePointApplyBitForBit) {
+  // The batch apply locates a level's new tags four at a time (TrilinearLanes), walking
+  // from cell to cell where a vertex lies outside the cell of its grid position; the point
+  // apply locates one vertex at a time with the scalar inverse_trilinear. After a first
+  // move at every level, on lattices with cut cells, shrunk or not, both give every vertex
+  // the same bits, and the batch's counts are the points'.
+  BunnyLattice b;
+  std::vector<std::uint32_t> ids(static_cast<std::size_t>(b.x.cols()));
+  std::iota(ids.begin(), ids.end(), 0u);
+  const double size = b.box.axes().colwise().norm().maxCoeff();
+  for (const double shrink : {-1.0, 0.002}) {
+    OctreeOptions o = options(4, 2);
+    o.shrink = shrink;
+    OctreeLattice lattice(b.box, b.x, o);
+    for (int level = 0; level <= 4; ++level) {
+      const GridComplex& g = lattice.complex(level);
+      move_one(lattice, level, g.points[g.num_points() / 2], Eigen::Vector3d(0.02, -0.02, 0.01) * size);
+      Eigen::Matrix3Xd p(3, b.x.cols());
+      WarpCounts counts;
+      ASSERT_TRUE(lattice.apply_without_normals(b.x, ids, p, counts));
+      std::size_t differ = 0, folded = 0;
+      for (Eigen::Index v = 0; v < b.x.cols(); ++v) {
+        Eigen::Matrix3d J;
+        differ += (lattice.apply(b.x.col(v), &J).array() != p.col(v).array()).any();
+        folded += J.determinant() <= 0;
+      }
+      EXPECT_EQ(differ, 0u) << "shrink " << shrink << ", level " << level;
+      EXPECT_EQ(counts.folded, folded) << "shrink " << shrink << ", level " << level;
+    }
+    EXPECT_GT(lattice.vertices_located(), 4u * static_cast<std::size_t>(b.x.cols()));
+  }
 }
 
 TEST(OctreeLattice, LocalSubdivisionAgreesWithSubdividingTheWholeLevel) {

@@ -286,24 +286,49 @@ private:
   void size_cache(Eigen::Index vertices) const;
   /// Gives a tag to each vertex of `ids` (inside the box) that lies in a cell a moved level
   /// marked active and has none there yet, and every tag room for its Jacobian part when
-  /// asked; serial, before the parallel apply.
-  void assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::vector<std::uint32_t>& ids,
-                   bool with_jacobians) const;
+  /// asked; serial, before the parallel apply. Returns, per level, the index of its first
+  /// new tag (its number of tags before).
+  std::vector<std::size_t> assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                       const std::vector<std::uint32_t>& ids, bool with_jacobians) const;
+  /// Where locate() found x before walking, when it did: the batch apply locates the new
+  /// tags of a block of vertices four at a time (TrilinearLanes) before applying them.
+  struct Located {
+    bool found = false;
+    Location where;
+    Eigen::Matrix3d dx_du;
+  };
+  /// The cell of C^k (grid level `level`) at grid cell `c` of its resolution, its rest
+  /// lattice subdivided there, and the guess of x's coordinates in it from box coordinates
+  /// t (exact on a regular grid); -1 when C^k has no such cell.
+  std::int32_t ready_cell(int level, int k, const GridIndex& c, const Eigen::Vector3d& t, Eigen::Vector3d& guess) const;
+  /// For the vertices ids[0..n) whose tag at grid level `level` is new (index >= first_new),
+  /// locate()'s tries at the finest step (the vertex's grid cell, then the walk from it),
+  /// solved four at a time: out[i * stride] says where the vertex lies if they find it
+  /// (found), and is not found otherwise (locate() then starts again).
+  void prelocate(int level, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::uint32_t* ids,
+                 std::ptrdiff_t n, std::size_t first_new, Located* out, int stride) const;
+  /// apply_points for vertex v; `located`: its prelocated places by level, or null. False
+  /// when the vertex is in no cell where a level moved (copied); `folded` is set when its
+  /// Jacobian's determinant is <= 0.
+  bool apply_vertex(std::uint32_t v, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                    const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
+                    Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, const Located* located, bool& folded) const;
   /// apply(), and apply_without_normals() when in_nrm and out_nrm are null.
   void apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const;
   struct Tag;
   bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag,
-                        Eigen::Matrix3d* jacobian) const;
+                        Eigen::Matrix3d* jacobian, const Located* located) const;
   bool tagged_local_part(int level, const Eigen::Vector3d& x, Tag& tag, Eigen::Matrix3d* jacobian) const;
   /// One level's part of F(x) - x (tag.d), at x with box coordinates t, through the
   /// vertex's tag (`same`: the tag is for x; a fresh tag computes it from scratch), and of
   /// dF/dx - I: a bound of its norm, squared (tag.bound2), and the part itself in
   /// `jacobian` when given (its tag.jacobian says whether it already holds it); false (d,
-  /// part zero) when the level leaves x alone: not moved, or not near x.
+  /// part zero) when the level leaves x alone: not moved, or not near x. `located`, when
+  /// given, is where prelocate() found x at a grid level, if it did.
   bool tagged_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag,
-                   Eigen::Matrix3d* jacobian) const;
+                   Eigen::Matrix3d* jacobian, const Located* located = nullptr) const;
   /// The level's part of F(x) - x at a located tag, and `jacobian` gains its part of
   /// dF/dx - I when given: the grid or local level's displacement at the tag's place.
   Eigen::Vector3d part_at(int level, const Tag& tag, Eigen::Matrix3d* jacobian) const;

@@ -8,6 +8,7 @@
 #include "common/ordered_select.h"
 #include "multires/cell_coordinates.h"
 #include "multires/octree_lattice.h"
+#include "multires/trilinear_lanes.h"
 #include "multires/volume_subdivision.h"
 
 namespace ffd {
@@ -15,6 +16,8 @@ namespace {
 
 constexpr double kInsideTolerance = 1e-9;
 constexpr int kMaxWalk = 8;
+// Vertices per block of the batch apply: the new tags of a block are located together.
+constexpr std::ptrdiff_t kBlock = 64;
 // Below this, a bound of the 2-norm of the sum A of a vertex's Jacobian parts decides that
 // I + A has a positive determinant: for |A|_2 <= b < 1, every singular value of I + A is at
 // least 1 - b, and I + tA is invertible for every t in [0, 1], so det(I + A) >= (1 - b)^3
@@ -49,6 +52,17 @@ GridIndex key_node(std::int64_t key) {
   return transformed_normal(J, n);
 }
 
+/// Box coordinates of x, out of line, so that the batch apply and its prelocate() get the
+/// same bits: inlined, GCC vectorizes and fuses Parallelepiped::to_local's product
+/// differently from one caller to another, and a locate's guess (hence the last bits of
+/// its result) starts from them.
+[[gnu::noinline]] Eigen::Vector3d box_coordinates(const Parallelepiped& box, const Eigen::Vector3d& x) {
+  return box.to_local(x);
+}
+
+/// The slot, in a dense array over a grid with `res` cells per axis, of box coordinates t.
+std::size_t grid_slot(const Eigen::Vector3d& t, int res) { return dense_cell(grid_cell_at(t, res), res); }
+
 CellCorners corners_of(const StepGrid& g, const Eigen::Matrix3Xd& positions, std::int32_t cell) {
   CellCorners Q;
   for (int c = 0; c < 8; ++c) Q.col(c) = positions.col(g.corner(cell, c));
@@ -73,13 +87,9 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3
     const int res = g.resolution();
     GridIndex c = grid_cell_at(t, res);
     for (int step = 0; step < kMaxWalk; ++step) {
-      const std::int32_t cell = g.cell(c[0], c[1], c[2]);
+      Eigen::Vector3d guess, u;
+      const std::int32_t cell = ready_cell(l, k, c, t, guess);
       if (cell < 0) break;
-      const GridIndex coarse{c[0] >> k, c[1] >> k, c[2] >> k};  // the level's cell holding it
-      if (k > 0 && !rest_ready(l, coarse)) ensure_rest(l, {coarse});
-      const Eigen::Vector3d guess =
-          (t * res - Eigen::Vector3d(c[0], c[1], c[2])).cwiseMax(0.0).cwiseMin(1.0);  // exact on a regular grid
-      Eigen::Vector3d u;
       if (!inverse_trilinear(corners_of(g, level.fine[k], cell), x, u, guess, dx_du)) break;
       if (in_unit_cube(u, kInsideTolerance)) {
         where = {k, cell, u.cwiseMax(0.0).cwiseMin(1.0)};
@@ -89,6 +99,85 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3
     }
   }
   return false;
+}
+
+std::int32_t OctreeLattice::ready_cell(int l, int k, const GridIndex& c, const Eigen::Vector3d& t,
+                                       Eigen::Vector3d& guess) const {
+  const StepGrid g = levels_[l].step_grid(k);
+  const std::int32_t cell = g.cell(c[0], c[1], c[2]);
+  if (cell < 0) return cell;
+  const GridIndex coarse{c[0] >> k, c[1] >> k, c[2] >> k};  // the level's cell holding it
+  if (k > 0 && !rest_ready(l, coarse)) ensure_rest(l, {coarse});
+  guess = (t * g.resolution() - Eigen::Vector3d(c[0], c[1], c[2])).cwiseMax(0.0).cwiseMin(1.0);
+  return cell;
+}
+
+void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::uint32_t* ids,
+                              std::ptrdiff_t n, std::size_t first_new, Located* out, int stride) const {
+  const Level& level = levels_[l];
+  const int k = static_cast<int>(level.fine.size()) - 1;  // locate()'s first try: the finest step
+  const StepGrid g = level.step_grid(k);
+  const Marks& m = marks(l);
+  const std::vector<std::uint32_t>& index = tag_index_[static_cast<std::size_t>(l)];
+  // locate()'s walk at step k, four vertices at a time: a vertex found outside its cell
+  // tries the next cell toward it in a later round. Wherever locate() would leave step k
+  // (no cell there, no convergence, too long a walk), the vertex is left not found, and
+  // apply locates it from the start.
+  struct Walk {
+    std::ptrdiff_t i;  // the vertex, ids[i]
+    GridIndex cell;    // the grid cell of C^k to try
+    int steps;
+  };
+  std::vector<Walk> next, now;
+  TrilinearLanes lanes;
+  Walk lane_walk[TrilinearLanes::kLanes];
+  std::int32_t lane_cell[TrilinearLanes::kLanes];
+  int used = 0;
+  const auto solve = [&] {
+    lanes.pad(used);
+    inverse_trilinear(lanes);
+    for (int lane = 0; lane < used; ++lane) {
+      if (!lanes.decided[lane]) continue;
+      const Eigen::Vector3d u = lanes.u_of(lane);
+      Walk walk = lane_walk[lane];
+      if (!in_unit_cube(u, kInsideTolerance)) {
+        for (int a = 0; a < 3; ++a) walk.cell[a] += u[a] < -kInsideTolerance ? -1 : u[a] > 1 + kInsideTolerance ? 1 : 0;
+        if (++walk.steps < kMaxWalk) next.push_back(walk);
+        continue;
+      }
+      Located& found = out[walk.i * stride];  // field by field: a copy of the whole is a slow rep movs
+      found.found = true;
+      found.where.step = k, found.where.cell = lane_cell[lane], found.where.u = u.cwiseMax(0.0).cwiseMin(1.0);
+      lanes.get_dx_du(lane, found.dx_du);
+    }
+    used = 0;
+  };
+  const auto attempt = [&](const Walk& walk) {
+    const Eigen::Vector3d x = in_pos.col(ids[walk.i]), t = box_coordinates(box_, x);
+    Eigen::Vector3d guess;
+    const std::int32_t cell = ready_cell(l, k, walk.cell, t, guess);
+    if (cell < 0) return;
+    std::int32_t corner[8];
+    for (int c = 0; c < 8; ++c) corner[c] = g.corner(cell, c);
+    lanes.set_cell(used, level.fine[static_cast<std::size_t>(k)], corner);
+    lanes.set_point(used, x, guess);
+    lane_walk[used] = walk, lane_cell[used] = cell;
+    if (++used == TrilinearLanes::kLanes) solve();
+  };
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    out[i * stride].found = false;
+    const std::uint32_t tag = index[ids[i]];
+    if (tag == 0 || tag - 1 < first_new) continue;
+    const Eigen::Vector3d t = box_coordinates(box_, in_pos.col(ids[i]));
+    if (in_unit_cube(t, kInsideTolerance) && m.active[grid_slot(t, m.resolution)])
+      attempt({i, grid_cell_at(t, g.resolution()), 0});
+  }
+  while (used > 0 || !next.empty()) {
+    if (used > 0) solve();
+    now.swap(next);
+    next.clear();
+    for (const Walk& walk : now) attempt(walk);
+  }
 }
 
 Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen::Matrix3d* jacobian,
@@ -116,11 +205,8 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
   return d;
 }
 
-/// The slot, in a dense array over a grid with `res` cells per axis, of box coordinates t.
-static std::size_t grid_slot(const Eigen::Vector3d& t, int res) { return dense_cell(grid_cell_at(t, res), res); }
-
 bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, bool same, Tag& tag,
-                                Eigen::Matrix3d* jacobian) const {
+                                Eigen::Matrix3d* jacobian, const Located* located) const {
   if (!same) tag = Tag{};
   const Marks& m = marks(l);
   const std::size_t slot = grid_slot(t, m.resolution);
@@ -139,7 +225,7 @@ bool OctreeLattice::tagged_part(int l, const Eigen::Vector3d& x, const Eigen::Ve
   if (!m.active[slot]) {  // outside the cells any move marked, the level's displacement is zero
     tag.inside = false;
   } else {
-    tag.inside = is_local(l) ? tagged_local_part(l, x, tag, jacobian) : tagged_grid_part(l, x, t, tag, jacobian);
+    tag.inside = is_local(l) ? tagged_local_part(l, x, tag, jacobian) : tagged_grid_part(l, x, t, tag, jacobian, located);
   }
   return tag.inside;
 }
@@ -158,12 +244,15 @@ bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag,
 }
 
 bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag,
-                                     Eigen::Matrix3d* jacobian) const {
+                                     Eigen::Matrix3d* jacobian, const Located* located) const {
   Eigen::Matrix3d dx_du;  // the rest cell's Jacobian, when located here
   bool located_here = false;
   if (tag.state == 0) {
     Location where;
-    tag.state = locate(l, x, t, where, &dx_du) ? 1 : 2;
+    if (located && located->found)
+      where = located->where, dx_du = located->dx_du, tag.state = 1;
+    else
+      tag.state = locate(l, x, t, where, &dx_du) ? 1 : 2;
     located_.fetch_add(1, std::memory_order_relaxed);
     tag.u = where.u, tag.cell = where.cell, tag.step = static_cast<std::int8_t>(where.step);
     located_here = true;
@@ -226,7 +315,7 @@ bool OctreeLattice::jacobian_folded(std::uint32_t v, double bound2) const {
 bool OctreeLattice::displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const {
   d.setZero();
   if (jacobian) jacobian->setIdentity();
-  const Eigen::Vector3d t = box_.to_local(x);
+  const Eigen::Vector3d t = box_coordinates(box_, x);
   if (!in_unit_cube(t, kInsideTolerance)) return false;
   bool inside = false;
   for (int l = 0; l < num_levels(); ++l) {
@@ -261,12 +350,14 @@ void OctreeLattice::size_cache(Eigen::Index vertices) const {
       tag_index_[l].resize(static_cast<std::size_t>(vertices), 0);
 }
 
-void OctreeLattice::assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                                const std::vector<std::uint32_t>& ids, bool with_jacobians) const {
+std::vector<std::size_t> OctreeLattice::assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                                    const std::vector<std::uint32_t>& ids, bool with_jacobians) const {
+  std::vector<std::size_t> first_new(static_cast<std::size_t>(num_levels()));
   for (int l = 0; l < num_levels(); ++l) {
+    std::vector<Tag>& tags = cache_[static_cast<std::size_t>(l)];
+    first_new[static_cast<std::size_t>(l)] = tags.size();
     if (!moved(l)) continue;
     std::vector<std::uint32_t>& index = tag_index_[static_cast<std::size_t>(l)];
-    std::vector<Tag>& tags = cache_[static_cast<std::size_t>(l)];
     const Marks& m = marks(l);
     std::size_t count = tags.size();
     if (m.all_active()) {  // coarse levels: every vertex (one outside the box keeps an unused tag)
@@ -283,6 +374,7 @@ void OctreeLattice::assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos
     tags.resize(count);  // one allocation: the new tags, not yet located
     if (with_jacobians) jacobians_[static_cast<std::size_t>(l)].resize(count);
   }
+  return first_new;
 }
 
 void OctreeLattice::apply(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>& in_nrm,
@@ -300,55 +392,87 @@ bool OctreeLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3X
   return true;
 }
 
+bool OctreeLattice::apply_vertex(std::uint32_t v, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                 const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
+                                 Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, const Located* located, bool& folded) const {
+  const Eigen::Vector3d x = in_pos.col(v);
+  const Eigen::Vector3d t = box_coordinates(box_, x);
+  // Sums the levels' parts as displacement() does, locating the vertex in a grid level
+  // only when its tag is not for this position.
+  const bool same = (cache_key_.col(v).array() == x.array()).all();
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+  double bound2 = 0;  // without normals: the sum of the parts' squared bounds
+  int parts = 0;
+  if (in_unit_cube(t, kInsideTolerance))
+    for (int l = 0; l < num_levels(); ++l) {
+      if (!moved(l)) continue;
+      const std::uint32_t index = tag_index_[static_cast<std::size_t>(l)][v];
+      if (index == 0) continue;  // not in a cell the level marked active: its part is zero
+      Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
+      Eigen::Matrix3d* part = out_nrm ? &jacobians_[static_cast<std::size_t>(l)][index - 1] : nullptr;
+      if (!tagged_part(l, x, t, same, tag, part, located ? located + l : nullptr)) continue;
+      d += tag.d;
+      if (out_nrm)
+        J += *part;
+      else
+        bound2 += tag.bound2;
+      ++parts;
+    }
+  cache_key_.col(v) = x;
+  if (parts == 0) {  // in no cell where a level moved: untouched, bit for bit
+    out_pos.col(v) = x;
+    if (out_nrm) out_nrm->col(v) = in_nrm->col(v);
+    return false;
+  }
+  out_pos.col(v) = x + d;
+  if (out_nrm) {
+    out_nrm->col(v) = normal_through(J, in_nrm->col(v));
+    folded = J.determinant() <= 0;
+  } else {
+    folded = jacobian_folded(v, parts * bound2);  // (sum of bounds)^2 <= parts * sum of squares
+  }
+  return true;
+}
+
 void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                  const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, const std::vector<std::uint32_t>& ids,
                                  Eigen::Ref<Eigen::Matrix3Xd> out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
                                  WarpCounts& counts) const {
   size_cache(in_pos.cols());
-  assign_tags(in_pos, ids, out_nrm != nullptr);
+  const std::vector<std::size_t> first_new = assign_tags(in_pos, ids, out_nrm != nullptr);
+  // The grid levels with new tags (a level's first move, or vertices newly in its marked
+  // cells): each block of vertices locates them there four at a time before applying. Not
+  // a whole grid without shrinking: its subdivisions are regular grids, where the guess is
+  // exact and a locate costs one evaluation, less than packing it into the lanes (elephant,
+  // levels 0 and 1: 4-8% slower first moves through the lanes).
+  std::vector<int> locating;
+  for (int l = 0; l < num_grid_levels(); ++l) {
+    const bool regular = options_.shrink < 0 && complex(l).num_cells() == std::size_t{1} << (3 * l);
+    if (moved(l) && !regular && cache_[static_cast<std::size_t>(l)].size() > first_new[static_cast<std::size_t>(l)])
+      locating.push_back(l);
+  }
+  const int stride = num_levels();
   std::size_t folded = 0, evaluated = 0;
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size());
-#pragma omp parallel for schedule(static) reduction(+ : folded, evaluated)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const std::uint32_t v = ids[static_cast<std::size_t>(i)];
-    const Eigen::Vector3d x = in_pos.col(v);
-    const Eigen::Vector3d t = box_.to_local(x);
-    // Sums the levels' parts as displacement() does, locating the vertex in a grid level
-    // only when its tag is not for this position.
-    const bool same = (cache_key_.col(v).array() == x.array()).all();
-    Eigen::Vector3d d = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
-    double bound2 = 0;  // without normals: the sum of the parts' squared bounds
-    int parts = 0;
-    if (in_unit_cube(t, kInsideTolerance))
-      for (int l = 0; l < num_levels(); ++l) {
-        if (!moved(l)) continue;
-        const std::uint32_t index = tag_index_[static_cast<std::size_t>(l)][v];
-        if (index == 0) continue;  // not in a cell the level marked active: its part is zero
-        Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
-        Eigen::Matrix3d* part = out_nrm ? &jacobians_[static_cast<std::size_t>(l)][index - 1] : nullptr;
-        if (!tagged_part(l, x, t, same, tag, part)) continue;
-        d += tag.d;
-        if (out_nrm)
-          J += *part;
-        else
-          bound2 += tag.bound2;
-        ++parts;
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size()), blocks = (n + kBlock - 1) / kBlock;
+#pragma omp parallel reduction(+ : folded, evaluated)
+  {
+    // By vertex of the block and level; null where no level locates, and a level not in
+    // `locating` never reads its entries (its tags are not new, so prelocate() skips them).
+    std::vector<Located> located(locating.empty() ? 0 : static_cast<std::size_t>(kBlock * stride));
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+      const std::ptrdiff_t begin = b * kBlock, end = std::min(n, begin + kBlock);
+      for (const int l : locating)
+        prelocate(l, in_pos, ids.data() + begin, end - begin, first_new[static_cast<std::size_t>(l)], located.data() + l,
+                  stride);
+      for (std::ptrdiff_t i = begin; i < end; ++i) {
+        bool fold = false;
+        const Located* found = located.empty() ? nullptr : located.data() + (i - begin) * stride;
+        evaluated += apply_vertex(ids[static_cast<std::size_t>(i)], in_pos, in_nrm, out_pos, out_nrm, found, fold);
+        folded += fold;
       }
-    cache_key_.col(v) = x;
-    if (parts == 0) {  // in no cell where a level moved: untouched, bit for bit
-      out_pos.col(v) = x;
-      if (out_nrm) out_nrm->col(v) = in_nrm->col(v);
-      continue;
     }
-    out_pos.col(v) = x + d;
-    if (out_nrm) {
-      out_nrm->col(v) = normal_through(J, in_nrm->col(v));
-      folded += J.determinant() <= 0;
-    } else {
-      folded += jacobian_folded(v, parts * bound2);  // (sum of bounds)^2 <= parts * sum of squares
-    }
-    ++evaluated;
   }
   counts.folded += folded;
   counts.evaluated += evaluated;
