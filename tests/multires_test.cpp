@@ -749,9 +749,15 @@ TEST(StepGrid, ImpliesTheRefinedComplexWithOneSlotPerPoint) {
           ASSERT_EQ(cell >= 0, built.has_cell(x, y, z)) << x << " " << y << " " << z;
           if (cell < 0) continue;
           ++cells;
-          for (int c = 0; c < 8; ++c)
-            EXPECT_EQ(implied.node(implied.corner(cell, c)), built.points[static_cast<std::size_t>(
-                                                                  built.corner(static_cast<std::size_t>(built.cell(x, y, z)), c))]);
+          const auto built_cell = static_cast<std::size_t>(built.cell(x, y, z));
+          std::int32_t implied_corners[8], built_corners[8];  // all eight at once, as the apply reads them
+          implied.corners(cell, implied_corners);
+          built.corners(built_cell, built_corners);
+          for (int c = 0; c < 8; ++c) {
+            EXPECT_EQ(implied.node(implied.corner(cell, c)), built.points[static_cast<std::size_t>(built.corner(built_cell, c))]);
+            EXPECT_EQ(implied_corners[c], implied.corner(cell, c));
+            EXPECT_EQ(built_corners[c], built.corner(built_cell, c));
+          }
         }
     EXPECT_EQ(cells, built.num_cells());
     Stencil from_built, from_implied;

@@ -53,6 +53,14 @@ struct GridComplex {
     const GridIndex& g = cells[cell];
     return point(g[0] + (c & 1), g[1] + ((c >> 1) & 1), g[2] + ((c >> 2) & 1));
   }
+  /// corner(cell, c) for every c: the corners of a cell are nodes of the dense range, so
+  /// their indices are read at fixed offsets from the first's.
+  void corners(std::size_t cell, std::int32_t out[8]) const {
+    const GridIndex& g = cells[cell];
+    const long long nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1;
+    const std::int32_t* first = point_index.data() + ((g[2] - lo[2]) * ny + (g[1] - lo[1])) * nx + (g[0] - lo[0]);
+    for (int c = 0; c < 8; ++c) out[c] = first[(c & 1) + ((c >> 1) & 1) * nx + ((c >> 2) & 1) * nx * ny];
+  }
   std::size_t num_cells() const { return cells.size(); }
   std::size_t num_points() const { return points.size(); }
   /// Bytes held by the topology (cells, points, dense indices).

@@ -64,8 +64,10 @@ GridIndex key_node(std::int64_t key) {
 std::size_t grid_slot(const Eigen::Vector3d& t, int res) { return dense_cell(grid_cell_at(t, res), res); }
 
 CellCorners corners_of(const StepGrid& g, const Eigen::Matrix3Xd& positions, std::int32_t cell) {
+  std::int32_t corner[8];
+  g.corners(cell, corner);
   CellCorners Q;
-  for (int c = 0; c < 8; ++c) Q.col(c) = positions.col(g.corner(cell, c));
+  for (int c = 0; c < 8; ++c) Q.col(c) = positions.col(corner[c]);
   return Q;
 }
 
@@ -158,7 +160,7 @@ void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& i
     const std::int32_t cell = ready_cell(l, k, walk.cell, t, guess);
     if (cell < 0) return;
     std::int32_t corner[8];
-    for (int c = 0; c < 8; ++c) corner[c] = g.corner(cell, c);
+    g.corners(cell, corner);
     lanes.set_cell(used, level.fine[static_cast<std::size_t>(k)], corner);
     lanes.set_point(used, x, guess);
     lane_walk[used] = walk, lane_cell[used] = cell;
@@ -188,7 +190,7 @@ Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen:
   Eigen::Matrix<double, 8, 3> dw;
   trilinear_weights(where.u, w, jacobian ? &dw : nullptr);
   std::int32_t corner[8];
-  for (int c = 0; c < 8; ++c) corner[c] = g.corner(where.cell, c);
+  g.corners(where.cell, corner);
   const auto disp = level.disp[static_cast<std::size_t>(where.step)].map();
   CellCorners D;
   for (int c = 0; c < 8; ++c) D.col(c) = disp.col(corner[c]);

@@ -56,6 +56,18 @@ struct StepGrid {
     if (built) return built->cell(i, j, z);
     return level->has_cell(i >> k, j >> k, z >> k) ? point({i, j, z}) : -1;
   }
+  /// corner(cell, c) for every c. A cell whose corners all lie in its owner's block (no
+  /// coordinate at the block's last node) has them at fixed offsets from its own slot.
+  void corners(std::int32_t cell, std::int32_t out[8]) const {
+    if (built) return built->corners(static_cast<std::size_t>(cell), out);
+    const int mask = (1 << k) - 1;
+    const GridIndex n = node(cell);
+    if ((n[0] & mask) != mask && (n[1] & mask) != mask && (n[2] & mask) != mask) {
+      for (int c = 0; c < 8; ++c) out[c] = cell + (c & 1) + (((c >> 1) & 1) << k) + (((c >> 2) & 1) << (2 * k));
+      return;
+    }
+    for (int c = 0; c < 8; ++c) out[c] = point({n[0] + (c & 1), n[1] + ((c >> 1) & 1), n[2] + ((c >> 2) & 1)});
+  }
   /// The slot of corner c (bit 0: +i, bit 1: +j, bit 2: +k) of cell `cell`.
   std::int32_t corner(std::int32_t cell, int c) const {
     if (built) return built->corner(static_cast<std::size_t>(cell), c);
