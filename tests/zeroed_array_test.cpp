@@ -42,6 +42,23 @@ TEST(ZeroBits, ZeroesEveryByteOfTheRangeAndNoOtherAtAnyAlignment) {
   }
 }
 
+TEST(Prefault, KeepsEveryByteOfMemoryInUse) {
+  // Faulting pages in for writing must not change what they hold: a range with written
+  // bytes around and inside it, on and off page boundaries, small and large, and fresh
+  // memory (reads as zeros after it).
+  std::vector<unsigned char> bytes((std::size_t{2} << 20) + 3 * 4096);
+  for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<unsigned char>(i * 7 + 1);
+  const std::vector<unsigned char> before = bytes;
+  for (const std::size_t offset : {std::size_t{1}, std::size_t{4093}})
+    for (const std::size_t size : {std::size_t{100}, std::size_t{1} << 20, (std::size_t{2} << 20) + 5}) {
+      prefault(bytes.data() + offset, size);
+      ASSERT_TRUE(bytes == before) << offset << " " << size;
+    }
+  ZeroedArray<double> fresh(std::size_t{1} << 18);
+  prefault(fresh.data(), fresh.size() * sizeof(double));
+  EXPECT_TRUE(std::all_of(fresh.data(), fresh.data() + fresh.size(), [](double v) { return v == 0.0; }));
+}
+
 TEST(ZeroedArray, StartsAsZerosSmallAndLarge) {
   for (std::size_t n : {std::size_t{10}, std::size_t{1} << 20}) {
     ZeroedArray<double> a(n);

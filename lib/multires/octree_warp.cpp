@@ -373,6 +373,10 @@ std::vector<std::size_t> OctreeLattice::assign_tags(const Eigen::Ref<const Eigen
           index[v] = static_cast<std::uint32_t>(++count);
       }
     }
+    if (count > tags.capacity()) {  // fresh memory: its pages faulted in at once, not one per tag written
+      tags.reserve(std::max(count, 2 * tags.size()));
+      prefault(tags.data() + tags.size(), (count - tags.size()) * sizeof(Tag));
+    }
     tags.resize(count);  // one allocation: the new tags, not yet located
     if (with_jacobians) jacobians_[static_cast<std::size_t>(l)].resize(count);
   }
