@@ -115,7 +115,8 @@ std::int32_t OctreeLattice::ready_cell(int l, int k, const GridIndex& c, const E
 }
 
 void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::uint32_t* ids,
-                              std::ptrdiff_t n, std::size_t first_new, Located* out, int stride) const {
+                              const Eigen::Vector3d* t, std::ptrdiff_t n, std::size_t first_new, Located* out,
+                              int stride) const {
   const Level& level = levels_[l];
   const int k = static_cast<int>(level.fine.size()) - 1;  // locate()'s first try: the finest step
   const StepGrid g = level.step_grid(k);
@@ -155,14 +156,13 @@ void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& i
     used = 0;
   };
   const auto attempt = [&](const Walk& walk) {
-    const Eigen::Vector3d x = in_pos.col(ids[walk.i]), t = box_coordinates(box_, x);
     Eigen::Vector3d guess;
-    const std::int32_t cell = ready_cell(l, k, walk.cell, t, guess);
+    const std::int32_t cell = ready_cell(l, k, walk.cell, t[walk.i], guess);
     if (cell < 0) return;
     std::int32_t corner[8];
     g.corners(cell, corner);
     lanes.set_cell(used, level.fine[static_cast<std::size_t>(k)], corner);
-    lanes.set_point(used, x, guess);
+    lanes.set_point(used, in_pos.col(ids[walk.i]), guess);
     lane_walk[used] = walk, lane_cell[used] = cell;
     if (++used == TrilinearLanes::kLanes) solve();
   };
@@ -170,9 +170,8 @@ void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& i
     out[i * stride].found = false;
     const std::uint32_t tag = index[ids[i]];
     if (tag == 0 || tag - 1 < first_new) continue;
-    const Eigen::Vector3d t = box_coordinates(box_, in_pos.col(ids[i]));
-    if (in_unit_cube(t, kInsideTolerance) && m.active[grid_slot(t, m.resolution)])
-      attempt({i, grid_cell_at(t, g.resolution()), 0});
+    if (in_unit_cube(t[i], kInsideTolerance) && m.active[grid_slot(t[i], m.resolution)])
+      attempt({i, grid_cell_at(t[i], g.resolution()), 0});
   }
   while (used > 0 || !next.empty()) {
     if (used > 0) solve();
@@ -398,11 +397,10 @@ bool OctreeLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3X
   return true;
 }
 
-bool OctreeLattice::apply_vertex(std::uint32_t v, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+bool OctreeLattice::apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                  const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
                                  Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, const Located* located, bool& folded) const {
   const Eigen::Vector3d x = in_pos.col(v);
-  const Eigen::Vector3d t = box_coordinates(box_, x);
   // Sums the levels' parts as displacement() does, locating the vertex in a grid level
   // only when its tag is not for this position.
   const bool same = (cache_key_.col(v).array() == x.array()).all();
@@ -466,16 +464,20 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     // By vertex of the block and level; null where no level locates, and a level not in
     // `locating` never reads its entries (its tags are not new, so prelocate() skips them).
     std::vector<Located> located(locating.empty() ? 0 : static_cast<std::size_t>(kBlock * stride));
+    std::vector<Eigen::Vector3d> t(static_cast<std::size_t>(kBlock));  // box coordinates, computed once
 #pragma omp for schedule(static)
     for (std::ptrdiff_t b = 0; b < blocks; ++b) {
       const std::ptrdiff_t begin = b * kBlock, end = std::min(n, begin + kBlock);
+      for (std::ptrdiff_t i = begin; i < end; ++i)
+        t[static_cast<std::size_t>(i - begin)] = box_coordinates(box_, in_pos.col(ids[static_cast<std::size_t>(i)]));
       for (const int l : locating)
-        prelocate(l, in_pos, ids.data() + begin, end - begin, first_new[static_cast<std::size_t>(l)], located.data() + l,
-                  stride);
+        prelocate(l, in_pos, ids.data() + begin, t.data(), end - begin, first_new[static_cast<std::size_t>(l)],
+                  located.data() + l, stride);
       for (std::ptrdiff_t i = begin; i < end; ++i) {
         bool fold = false;
         const Located* found = located.empty() ? nullptr : located.data() + (i - begin) * stride;
-        evaluated += apply_vertex(ids[static_cast<std::size_t>(i)], in_pos, in_nrm, out_pos, out_nrm, found, fold);
+        evaluated += apply_vertex(ids[static_cast<std::size_t>(i)], t[static_cast<std::size_t>(i - begin)], in_pos, in_nrm,
+                                  out_pos, out_nrm, found, fold);
         folded += fold;
       }
     }
