@@ -290,8 +290,9 @@ private:
   /// new tag (its number of tags before).
   std::vector<std::size_t> assign_tags(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                        const std::vector<std::uint32_t>& ids, bool with_jacobians) const;
-  /// Where locate() found x before walking, when it did: the batch apply locates the new
-  /// tags of a block of vertices four at a time (TrilinearLanes) before applying them.
+  /// Where locate()'s tries at the finest step found x, when they did: the batch apply
+  /// locates the new tags of a block of vertices four at a time (TrilinearLanes) before
+  /// applying them.
   struct Located {
     bool found = false;
     Location where;
@@ -302,16 +303,15 @@ private:
   /// t (exact on a regular grid); -1 when C^k has no such cell.
   std::int32_t ready_cell(int level, int k, const GridIndex& c, const Eigen::Vector3d& t, Eigen::Vector3d& guess) const;
   /// For the vertices ids[0..n), at box coordinates t[0..n), whose tag at grid level `level`
-  /// is new (index >= first_new),
-  /// locate()'s tries at the finest step (the vertex's grid cell, then the walk from it),
-  /// solved four at a time: out[i * stride] says where the vertex lies if they find it
-  /// (found), and is not found otherwise (locate() then starts again).
+  /// is new (index >= first_new), locate()'s tries at the finest step (the vertex's grid
+  /// cell, then the walk from it), solved four at a time: out[i * stride] says where the
+  /// vertex lies if they find it (found), and is not found otherwise (locate() then starts
+  /// again).
   void prelocate(int level, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::uint32_t* ids,
                  const Eigen::Vector3d* t, std::ptrdiff_t n, std::size_t first_new, Located* out, int stride) const;
   /// apply_points for vertex v at box coordinates t; `located`: its prelocated places by
-  /// level, or null. False
-  /// when the vertex is in no cell where a level moved (copied); `folded` is set when its
-  /// Jacobian's determinant is <= 0.
+  /// level, or null. False when the vertex is in no cell where a level moved (copied);
+  /// `folded` is set when its Jacobian's determinant is <= 0.
   bool apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                     const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, const Located* located, bool& folded) const;

@@ -461,8 +461,9 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size()), blocks = (n + kBlock - 1) / kBlock;
 #pragma omp parallel reduction(+ : folded, evaluated)
   {
-    // By vertex of the block and level; null where no level locates, and a level not in
-    // `locating` never reads its entries (its tags are not new, so prelocate() skips them).
+    // By vertex of the block and level, empty when no level locates. Only the levels in
+    // `locating` write their entries; the others' stay not found, so a tag of theirs that
+    // needs a locate (its vertex moved) gets the scalar one.
     std::vector<Located> located(locating.empty() ? 0 : static_cast<std::size_t>(kBlock * stride));
     std::vector<Eigen::Vector3d> t(static_cast<std::size_t>(kBlock));  // box coordinates, computed once
 #pragma omp for schedule(static)
