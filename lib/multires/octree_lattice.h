@@ -309,6 +309,18 @@ private:
   /// again).
   void prelocate(int level, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::uint32_t* ids,
                  const Eigen::Vector3d* t, std::ptrdiff_t n, std::size_t first_new, Located* out, int stride) const;
+  struct Tag;
+  /// A moved level's tags for prefetching: its tag_index_, cache_ and jacobians_ arrays
+  /// (jacobians null when the apply carries no normals).
+  struct TagStream {
+    const std::uint32_t* index;
+    const Tag* tags;
+    const Eigen::Matrix3d* jacobians;
+  };
+  std::vector<TagStream> tag_streams(bool with_jacobians) const;
+  /// Asks the memory for vertex v's tags (and their Jacobian parts) at every moved level at
+  /// once, before apply_vertex reads them one level after another.
+  static void prefetch_tags(const std::vector<TagStream>& streams, std::uint32_t v);
   /// apply_points for vertex v at box coordinates t; `located`: its prelocated places by
   /// level, or null. False when the vertex is in no cell where a level moved (copied);
   /// `folded` is set when its Jacobian's determinant is <= 0.
@@ -319,7 +331,6 @@ private:
   void apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
                     Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts) const;
-  struct Tag;
   bool tagged_grid_part(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Tag& tag,
                         Eigen::Matrix3d* jacobian, const Located* located) const;
   bool tagged_local_part(int level, const Eigen::Vector3d& x, Tag& tag, Eigen::Matrix3d* jacobian) const;

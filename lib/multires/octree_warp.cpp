@@ -18,6 +18,10 @@ constexpr double kInsideTolerance = 1e-9;
 constexpr int kMaxWalk = 8;
 // Vertices per block of the batch apply: the new tags of a block are located together.
 constexpr std::ptrdiff_t kBlock = 64;
+// The batch apply asks for the tags of the vertex this many places ahead: a later move
+// reads each vertex's tags and Jacobian parts at every moved level, scattered over arrays
+// larger than the caches, and one vertex's misses alone would be waited for in turn.
+constexpr std::ptrdiff_t kPrefetchAhead = 2;
 // Below this, a bound of the 2-norm of the sum A of a vertex's Jacobian parts decides that
 // I + A has a positive determinant: for |A|_2 <= b < 1, every singular value of I + A is at
 // least 1 - b, and I + tA is invertible for every t in [0, 1], so det(I + A) >= (1 - b)^3
@@ -397,6 +401,32 @@ bool OctreeLattice::apply_without_normals(const Eigen::Ref<const Eigen::Matrix3X
   return true;
 }
 
+std::vector<OctreeLattice::TagStream> OctreeLattice::tag_streams(bool with_jacobians) const {
+  std::vector<TagStream> streams;
+  for (int l = 0; l < num_levels(); ++l) {
+    if (!moved(l)) continue;
+    const auto i = static_cast<std::size_t>(l);
+    streams.push_back({tag_index_[i].data(), cache_[i].data(), with_jacobians ? jacobians_[i].data() : nullptr});
+  }
+  return streams;
+}
+
+// noipa: GCC's interprocedural analysis counts a prefetch as no side effect, finds this
+// function pure, and deletes its calls (inline, or not inline alike).
+[[gnu::noipa]] void OctreeLattice::prefetch_tags(const std::vector<TagStream>& streams, std::uint32_t v) {
+  const auto lines = [](const void* p, std::size_t bytes) {  // the cache lines of an entry
+    const char* c = static_cast<const char*>(p);
+    __builtin_prefetch(c);
+    __builtin_prefetch(c + bytes - 1);
+  };
+  for (const TagStream& s : streams) {
+    const std::uint32_t index = s.index[v];
+    if (index == 0) continue;
+    lines(s.tags + (index - 1), sizeof(Tag));
+    if (s.jacobians) lines(s.jacobians + (index - 1), sizeof(Eigen::Matrix3d));
+  }
+}
+
 bool OctreeLattice::apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                  const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
                                  Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, const Located* located, bool& folded) const {
@@ -457,6 +487,7 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
       locating.push_back(l);
   }
   const int stride = num_levels();
+  const std::vector<TagStream> streams = tag_streams(out_nrm != nullptr);
   std::size_t folded = 0, evaluated = 0;
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size()), blocks = (n + kBlock - 1) / kBlock;
 #pragma omp parallel reduction(+ : folded, evaluated)
@@ -475,6 +506,7 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
         prelocate(l, in_pos, ids.data() + begin, t.data(), end - begin, first_new[static_cast<std::size_t>(l)],
                   located.data() + l, stride);
       for (std::ptrdiff_t i = begin; i < end; ++i) {
+        if (i + kPrefetchAhead < n) prefetch_tags(streams, ids[static_cast<std::size_t>(i + kPrefetchAhead)]);
         bool fold = false;
         const Located* found = located.empty() ? nullptr : located.data() + (i - begin) * stride;
         evaluated += apply_vertex(ids[static_cast<std::size_t>(i)], t[static_cast<std::size_t>(i - begin)], in_pos, in_nrm,
