@@ -317,6 +317,7 @@ private:
     const Tag* tags;
     const Eigen::Matrix3d* jacobians;
   };
+  /// The moved levels' streams, in level order.
   std::vector<TagStream> tag_streams(bool with_jacobians) const;
   /// Asks the memory for vertex v's tags (and their Jacobian parts) at every moved level at
   /// once, before apply_vertex reads them one level after another.

@@ -411,9 +411,10 @@ std::vector<OctreeLattice::TagStream> OctreeLattice::tag_streams(bool with_jacob
   return streams;
 }
 
-// noipa: GCC's interprocedural analysis counts a prefetch as no side effect, finds this
-// function pure, and deletes its calls (inline, or not inline alike).
-[[gnu::noipa]] void OctreeLattice::prefetch_tags(const std::vector<TagStream>& streams, std::uint32_t v) {
+void OctreeLattice::prefetch_tags(const std::vector<TagStream>& streams, std::uint32_t v) {
+  // The empty volatile asm: GCC's interprocedural analysis counts a prefetch as no side
+  // effect, would find this function pure, and deleted its calls.
+  asm volatile("");
   const auto lines = [](const void* p, std::size_t bytes) {  // the cache lines of an entry
     const char* c = static_cast<const char*>(p);
     __builtin_prefetch(c);
