@@ -322,12 +322,13 @@ private:
   /// Asks the memory for vertex v's tags (and their Jacobian parts) at every moved level at
   /// once, before apply_vertex reads them one level after another.
   static void prefetch_tags(const std::vector<TagStream>& streams, std::uint32_t v);
-  /// apply_points for vertex v at box coordinates t; `located`: its prelocated places by
-  /// level, or null. False when the vertex is in no cell where a level moved (copied);
-  /// `folded` is set when its Jacobian's determinant is <= 0.
+  /// apply_points for vertex v at box coordinates t: its position, and its Jacobian in
+  /// `jacobian` when given (an apply with normals); `located`: its prelocated places by
+  /// level, or null. False when the vertex is in no cell where a level moved (position
+  /// copied, `jacobian` not written); `folded` is set when its Jacobian's determinant is <= 0.
   bool apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                    const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
-                    Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, const Located* located, bool& folded) const;
+                    Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Matrix3d* jacobian, const Located* located,
+                    bool& folded) const;
   /// apply(), and apply_without_normals() when in_nrm and out_nrm are null.
   void apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,

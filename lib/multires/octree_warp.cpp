@@ -429,8 +429,8 @@ void OctreeLattice::prefetch_tags(const std::vector<TagStream>& streams, std::ui
 }
 
 bool OctreeLattice::apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                                 const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
-                                 Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, const Located* located, bool& folded) const {
+                                 Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Matrix3d* jacobian, const Located* located,
+                                 bool& folded) const {
   const Eigen::Vector3d x = in_pos.col(v);
   // Sums the levels' parts as displacement() does, locating the vertex in a grid level
   // only when its tag is not for this position.
@@ -445,10 +445,10 @@ bool OctreeLattice::apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, cons
       const std::uint32_t index = tag_index_[static_cast<std::size_t>(l)][v];
       if (index == 0) continue;  // not in a cell the level marked active: its part is zero
       Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
-      Eigen::Matrix3d* part = out_nrm ? &jacobians_[static_cast<std::size_t>(l)][index - 1] : nullptr;
+      Eigen::Matrix3d* part = jacobian ? &jacobians_[static_cast<std::size_t>(l)][index - 1] : nullptr;
       if (!tagged_part(l, x, t, same, tag, part, located ? located + l : nullptr)) continue;
       d += tag.d;
-      if (out_nrm)
+      if (jacobian)
         J += *part;
       else
         bound2 += tag.bound2;
@@ -457,12 +457,11 @@ bool OctreeLattice::apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, cons
   cache_key_.col(v) = x;
   if (parts == 0) {  // in no cell where a level moved: untouched, bit for bit
     out_pos.col(v) = x;
-    if (out_nrm) out_nrm->col(v) = in_nrm->col(v);
     return false;
   }
   out_pos.col(v) = x + d;
-  if (out_nrm) {
-    out_nrm->col(v) = normal_through(J, in_nrm->col(v));
+  if (jacobian) {
+    *jacobian = J;
     folded = J.determinant() <= 0;
   } else {
     folded = jacobian_folded(v, parts * bound2);  // (sum of bounds)^2 <= parts * sum of squares
@@ -498,6 +497,12 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     // needs a locate (its vertex moved) gets the scalar one.
     std::vector<Located> located(locating.empty() ? 0 : static_cast<std::size_t>(kBlock * stride));
     std::vector<Eigen::Vector3d> t(static_cast<std::size_t>(kBlock));  // box coordinates, computed once
+    // With normals, each vertex's Jacobian, and whether a level moved it (else its normal
+    // is copied): the normals are transformed after the block's vertices, when the stores
+    // of a Jacobian are long done (read straight after them, two of normal_through's loads
+    // waited for the stores to reach the cache).
+    std::vector<Eigen::Matrix3d> jacobian(out_nrm ? static_cast<std::size_t>(kBlock) : 0);
+    std::vector<std::uint8_t> applied(static_cast<std::size_t>(kBlock));
 #pragma omp for schedule(static)
     for (std::ptrdiff_t b = 0; b < blocks; ++b) {
       const std::ptrdiff_t begin = b * kBlock, end = std::min(n, begin + kBlock);
@@ -510,9 +515,16 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
         if (i + kPrefetchAhead < n) prefetch_tags(streams, ids[static_cast<std::size_t>(i + kPrefetchAhead)]);
         bool fold = false;
         const Located* found = located.empty() ? nullptr : located.data() + (i - begin) * stride;
-        evaluated += apply_vertex(ids[static_cast<std::size_t>(i)], t[static_cast<std::size_t>(i - begin)], in_pos, in_nrm,
-                                  out_pos, out_nrm, found, fold);
+        const auto slot = static_cast<std::size_t>(i - begin);
+        applied[slot] = apply_vertex(ids[static_cast<std::size_t>(i)], t[slot], in_pos, out_pos,
+                                     out_nrm ? &jacobian[slot] : nullptr, found, fold);
+        evaluated += applied[slot];
         folded += fold;
+      }
+      for (std::ptrdiff_t i = begin; out_nrm && i < end; ++i) {
+        const auto slot = static_cast<std::size_t>(i - begin);
+        const std::uint32_t v = ids[static_cast<std::size_t>(i)];
+        out_nrm->col(v) = applied[slot] ? normal_through(jacobian[slot], in_nrm->col(v)) : Eigen::Vector3d(in_nrm->col(v));
       }
     }
   }
