@@ -20,7 +20,7 @@ constexpr int kMaxWalk = 8;
 constexpr std::ptrdiff_t kBlock = 64;
 // The batch apply asks for the tags of the vertex this many places ahead: a later move
 // reads each vertex's tags and Jacobian parts at every moved level, scattered over arrays
-// larger than the caches, and one vertex's misses alone would be waited for in turn.
+// larger than a core's caches, and one vertex's misses alone would be waited for in turn.
 constexpr std::ptrdiff_t kPrefetchAhead = 2;
 // Below this, a bound of the 2-norm of the sum A of a vertex's Jacobian parts decides that
 // I + A has a positive determinant: for |A|_2 <= b < 1, every singular value of I + A is at
@@ -412,8 +412,8 @@ std::vector<OctreeLattice::TagStream> OctreeLattice::tag_streams(bool with_jacob
 }
 
 void OctreeLattice::prefetch_tags(const std::vector<TagStream>& streams, std::uint32_t v) {
-  // The empty volatile asm: GCC's interprocedural analysis counts a prefetch as no side
-  // effect, would find this function pure, and deleted its calls.
+  // The empty volatile asm keeps the calls: GCC's interprocedural analysis counts a
+  // prefetch as no side effect, and without it found this function pure and deleted them.
   asm volatile("");
   const auto lines = [](const void* p, std::size_t bytes) {  // the cache lines of an entry
     const char* c = static_cast<const char*>(p);
