@@ -514,8 +514,8 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
       for (std::ptrdiff_t i = begin; i < end; ++i) {
         if (i + kPrefetchAhead < n) prefetch_tags(streams, ids[static_cast<std::size_t>(i + kPrefetchAhead)]);
         bool fold = false;
-        const Located* found = located.empty() ? nullptr : located.data() + (i - begin) * stride;
         const auto slot = static_cast<std::size_t>(i - begin);
+        const Located* found = located.empty() ? nullptr : located.data() + slot * static_cast<std::size_t>(stride);
         applied[slot] = apply_vertex(ids[static_cast<std::size_t>(i)], t[slot], in_pos, out_pos,
                                      out_nrm ? &jacobian[slot] : nullptr, found, fold);
         evaluated += applied[slot];
