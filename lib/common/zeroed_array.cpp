@@ -85,6 +85,18 @@ void prefault(void* p, std::size_t bytes) {
 #endif
 }
 
+void advise_huge_pages(const void* p, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+  if (bytes < 2 * kHuge) return;
+  const auto first = (reinterpret_cast<std::uintptr_t>(p) + kHuge - 1) & ~(kHuge - 1);
+  const auto last = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(kHuge - 1);
+  if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);  // advice: failing it changes nothing
+#else
+  (void)p, (void)bytes;
+#endif
+}
+
 void free_zeroed(void* p, std::size_t bytes) noexcept {
   if (!p) return;
 #if defined(__linux__)

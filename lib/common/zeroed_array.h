@@ -35,6 +35,17 @@ void free_zeroed(void* p, std::size_t bytes) noexcept;
 /// where the advice is refused (the writes then fault as before).
 void prefault(void* p, std::size_t bytes);
 
+/// Asks that the whole 2 MiB pages inside [p, p + bytes) be transparent huge pages
+/// (MADV_HUGEPAGE), for a large array about to be written front to back: each of its
+/// 2 MiB is then one fault instead of 512. Where faults are dear this is much of a job's
+/// time: on a 2-core virtual machine that traps each (10 us a 4 KiB page, against the
+/// 1.2-1.9 us above on another) the 1M-vertex sphere's run took 30k faults, 300 ms of its
+/// 700. Call it before the first write: a 2 MiB page with a 4 KiB page already in it stays
+/// small. Only for memory written whole, or nearly, from its start: an untouched 2 MiB page
+/// costs nothing, but a touched one holds all of its 2 MiB. Nothing for less than 4 MiB,
+/// where the kernel does without transparent huge pages, or where the advice is refused.
+void advise_huge_pages(const void* p, std::size_t bytes);
+
 template <class T>
 class ZeroedArray {
   static_assert(std::is_trivially_copyable_v<T>, "zero bits must be a value of T");
