@@ -7,6 +7,7 @@
 
 #include "common/errors.h"
 #include "common/timer.h"
+#include "common/zeroed_array.h"
 
 namespace ffd {
 namespace {
@@ -65,6 +66,7 @@ bool SupernodalCholesky::Impl::numeric(const Sparse& a) {
   const int* rows = static_cast<const int*>(factor->s);
   const int* perm = static_cast<const int*>(factor->Perm);
   double* values = static_cast<double*>(factor->x);
+  advise_huge_pages(values, factor->xsize * sizeof(double));  // fresh from CHOLMOD, written whole below
   std::fill(values, values + factor->xsize, 0.0);
 
   // C = P·A·Pᵀ, lower triangle: C(k, l) = A(perm[k], perm[l]).

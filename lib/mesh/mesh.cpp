@@ -23,6 +23,7 @@ std::string element_place(const std::string& file, const MeshElements& elements,
 Eigen::Matrix3Xd copy_in_team(const Eigen::Ref<const Eigen::Matrix3Xd>& from) {
   const Eigen::Index n = from.cols();
   Eigen::Matrix3Xd to(3, n);
+  advise_huge_pages(to.data(), static_cast<std::size_t>(to.size()) * sizeof(double));
 #pragma omp parallel for schedule(static) if (n >= 65536)
   for (Eigen::Index i = 0; i < n; ++i) to.col(i) = from.col(i);
   return to;

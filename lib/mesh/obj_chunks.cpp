@@ -18,6 +18,7 @@ void obj_reserve_lines(std::size_t bytes, PolygonSoup& soup) {
   soup.positions.reserve(most);
   soup.elements.reserve(most, 3);
   soup.elements.lines.reserve(most);
+  advise_huge_pages(soup);
 }
 
 // An `f` line of plain vertex indices (line n of the chunk) into the chunk, a comment

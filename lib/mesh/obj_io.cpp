@@ -245,6 +245,7 @@ void reserve_for(std::string_view text, PolygonSoup& soup) {
   soup.positions.reserve(vertices);
   soup.elements.reserve(faces, 3);
   soup.elements.lines.reserve(faces);
+  advise_huge_pages(soup);
 }
 
 // Whether `key` can name an OBJ statement: a letter or '_', then letters, digits, '_'.

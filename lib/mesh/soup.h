@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/zeroed_array.h"
 #include "mesh/mesh_elements.h"
 
 namespace ffd {
@@ -35,5 +36,12 @@ struct PolygonSoup {
   std::shared_ptr<const PlySource> ply;     // a PLY file's every element (ply_source.h)
   std::shared_ptr<const ObjSource> obj;     // an OBJ's statements not interpreted (obj_source.h)
 };
+
+/// Huge pages (common/zeroed_array.h) for the two largest arrays a reader has reserved and
+/// is about to fill front to back, the positions and the corners.
+inline void advise_huge_pages(const PolygonSoup& soup) {
+  advise_huge_pages(soup.positions.data(), soup.positions.capacity() * sizeof(Eigen::Vector3d));
+  advise_huge_pages(soup.elements.corners.data(), soup.elements.corners.capacity() * sizeof(soup.elements.corners[0]));
+}
 
 }  // namespace ffd
