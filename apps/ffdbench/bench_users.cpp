@@ -58,7 +58,7 @@ constexpr int kUsersBlenderRepeats = 3;
 /// `ffdtool run`s of one script: their stats, and the medians of wall time and peak RSS.
 struct ToolRuns {
   std::vector<json> stats;
-  double ms = 0, peak_bytes = 0;
+  double ms = 0, peak_bytes = 0, minor_faults = 0;  // medians over the runs
   /// The median over the runs of the stats' number that `get` picks.
   double stat(const std::function<double(const json&)>& get) const {
     std::vector<double> values;
@@ -90,6 +90,9 @@ ToolRuns run_ffdtool(const std::string& ffdtool, const TempFolder& dir, const st
     runs.push_back(std::move(run));
   }
   child_medians(runs, r.ms, r.peak_bytes);
+  std::vector<double> faults;
+  for (const ChildRun& run : runs) faults.push_back(static_cast<double>(run.minor_faults));
+  r.minor_faults = median(faults);
   return r;
 }
 
@@ -166,6 +169,7 @@ json sphere_job_row(const ToolRuns& r, int threads, std::size_t vertices, double
               {"process_ms", r.ms},
               {"peak_bytes", r.peak_bytes},
               {"peak_bytes_per_vertex", r.peak_bytes / static_cast<double>(vertices)},
+              {"minor_faults", r.minor_faults},
               {"read_ms", read},
               {"lattice_step_ms", r.step_ms(0)},
               {"move_step_ms", r.step_ms(1)},
@@ -424,6 +428,7 @@ json octree_row(const Context& ctx, const std::string& ffdtool, const TempFolder
           {"threads", 1},
           {"process_ms", r.ms},
           {"peak_bytes", r.peak_bytes},
+          {"minor_faults", r.minor_faults},
           {"lattice_step_ms", r.step_ms(0)},
           {"move_ms_by_level", moves},
           {"move_work_by_level", work},
@@ -497,6 +502,7 @@ json bcm_row(const Context& ctx, const std::string& ffdtool, const TempFolder& d
           {"frames", frames},
           {"wall_1_frame_ms", one.ms},
           {"wall_frames_ms", many.ms},
+          {"minor_faults_frames_run", many.minor_faults},
           {"per_frame_ms", per_frame},
           // The setup twice: its spread between the two runs is the per-frame figure's noise.
           {"bcm_step_ms", many.step_ms(0)},

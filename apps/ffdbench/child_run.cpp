@@ -72,7 +72,7 @@ int launch_main(int argc, char** argv) {
   const int status = reap(pid, usage);
   const double ms = clock.ms();
   if (std::FILE* f = std::fopen(argv[2], "w")) {
-    std::fprintf(f, "%.6f %zu\n", ms, static_cast<std::size_t>(usage.ru_maxrss) * 1024);
+    std::fprintf(f, "%.6f %zu %ld\n", ms, static_cast<std::size_t>(usage.ru_maxrss) * 1024, usage.ru_minflt);
     std::fclose(f);
   }
   return exit_code(status);
@@ -102,7 +102,7 @@ ChildRun run_measured(const std::vector<std::string>& argv, const std::string& f
   ChildRun run;
   std::istringstream measured(slurp(result));
   // Measured whatever the exit: compare exits 1 for a difference, batch for a failed mesh.
-  const bool measured_ok = static_cast<bool>(measured >> run.ms >> run.peak_bytes);
+  const bool measured_ok = static_cast<bool>(measured >> run.ms >> run.peak_bytes >> run.minor_faults);
   run.exit = exit_code(status);
   run.ok = run.exit == 0 && measured_ok;
   run.out = slurp(out);

@@ -5,7 +5,7 @@
 // posix_spawn starts in (a copy of) ours, which holds the benchmark's meshes. So a child
 // runs under ffdbench itself in launcher mode (`ffdbench --launch RESULT PROGRAM
 // ARGS...`), a fresh process of about 6 MB: it spawns PROGRAM, reaps it with wait4 and
-// writes "wall_ms peak_bytes" to RESULT. A child's peak below the launcher's size reads
+// writes "wall_ms peak_bytes minor_faults" to RESULT. A child's peak below the launcher's size reads
 // as the launcher's size.
 #pragma once
 
@@ -15,11 +15,14 @@
 
 namespace ffd::bench {
 
-/// A finished child process: wall time from spawn to reaping, peak resident set, its exit
-/// code and whether it was 0, and its stdout and stderr.
+/// A finished child process: wall time from spawn to reaping, peak resident set, the page
+/// faults it took that needed no I/O (pages of fresh memory among them: where faults are
+/// dear, a large part of its time), its exit code and whether it was 0, and its stdout and
+/// stderr.
 struct ChildRun {
   double ms = 0;
   std::size_t peak_bytes = 0;
+  long minor_faults = 0;
   int exit = 0;
   bool ok = false;
   std::string out, err;
