@@ -48,18 +48,23 @@ TEST(ZeroBits, ZeroesEveryByteOfTheRangeAndNoOtherAtAnyAlignment) {
   }
 }
 
-TEST(Prefault, KeepsEveryByteOfMemoryInUse) {
-  // Faulting pages in for writing must not change what they hold: a range with written
-  // bytes around and inside it, on and off page boundaries, small and large, and fresh
-  // memory (reads as zeros after it).
-  std::vector<unsigned char> bytes((std::size_t{2} << 20) + 3 * 4096);
+// Memory advice `advise(p, size)` over ranges of written memory (bytes around and inside
+// them, starting on and off page boundaries, of each of `sizes`) changes none of its bytes.
+void expect_advice_keeps_bytes(void (*advise)(void*, std::size_t), const std::vector<std::size_t>& sizes) {
+  std::vector<unsigned char> bytes(*std::max_element(sizes.begin(), sizes.end()) + 3 * 4096);
   for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<unsigned char>(i * 7 + 1);
   const std::vector<unsigned char> before = bytes;
   for (const std::size_t offset : {std::size_t{1}, std::size_t{4093}})
-    for (const std::size_t size : {std::size_t{100}, std::size_t{1} << 20, (std::size_t{2} << 20) + 5}) {
-      prefault(bytes.data() + offset, size);
+    for (const std::size_t size : sizes) {
+      advise(bytes.data() + offset, size);
       ASSERT_TRUE(bytes == before) << offset << " " << size;
     }
+}
+
+TEST(Prefault, KeepsEveryByteOfMemoryInUse) {
+  // Faulting pages in for writing must not change what they hold, small ranges and large,
+  // and fresh memory reads as zeros after it.
+  expect_advice_keeps_bytes(prefault, {100, std::size_t{1} << 20, (std::size_t{2} << 20) + 5});
   ZeroedArray<double> fresh(std::size_t{1} << 18);
   prefault(fresh.data(), fresh.size() * sizeof(double));
   EXPECT_TRUE(std::all_of(fresh.data(), fresh.data() + fresh.size(), [](double v) { return v == 0.0; }));
@@ -92,16 +97,10 @@ bool huge_pages_on_advice() {
 }
 
 TEST(HugePages, AdviceKeepsEveryByteAndFreshMemoryGetsHugePages) {
-  // Advice over memory in use (written bytes around and inside, on and off page and 2 MiB
-  // boundaries, below and above the 4 MiB it needs) changes none of its bytes.
-  std::vector<unsigned char> bytes((std::size_t{9} << 20) + 3 * 4096);
-  for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<unsigned char>(i * 7 + 1);
-  const std::vector<unsigned char> before = bytes;
-  for (const std::size_t offset : {std::size_t{1}, std::size_t{4093}})
-    for (const std::size_t size : {std::size_t{100}, std::size_t{3} << 20, (std::size_t{8} << 20) + 5}) {
-      advise_huge_pages(bytes.data() + offset, size);
-      ASSERT_TRUE(bytes == before) << offset << " " << size;
-    }
+  // Advice over memory in use, below and above the 4 MiB it needs and off 2 MiB
+  // boundaries, changes none of its bytes.
+  expect_advice_keeps_bytes([](void* p, std::size_t size) { advise_huge_pages(p, size); },
+                            {100, std::size_t{3} << 20, (std::size_t{8} << 20) + 5});
   // Fresh memory advised before its first write: the 2 MiB pages inside it are huge ones,
   // where the kernel gives them on advice (the point: one fault each instead of 512).
   const std::size_t size = std::size_t{10} << 20;
