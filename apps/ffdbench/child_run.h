@@ -5,8 +5,8 @@
 // posix_spawn starts in (a copy of) ours, which holds the benchmark's meshes. So a child
 // runs under ffdbench itself in launcher mode (`ffdbench --launch RESULT PROGRAM
 // ARGS...`), a fresh process of about 6 MB: it spawns PROGRAM, reaps it with wait4 and
-// writes "wall_ms peak_bytes minor_faults" to RESULT. A child's peak below the launcher's size reads
-// as the launcher's size.
+// writes "wall_ms peak_bytes minor_faults" to RESULT. A child's peak below the launcher's
+// size reads as the launcher's size.
 #pragma once
 
 #include <cstddef>
