@@ -15,10 +15,7 @@ namespace {
 // a line takes at least 8 bytes with its newline).
 void obj_reserve_lines(std::size_t bytes, PolygonSoup& soup) {
   const std::size_t most = (bytes + 1) / 8;
-  soup.positions.reserve(most);
-  soup.elements.reserve(most, 3);
-  soup.elements.lines.reserve(most);
-  advise_huge_pages(soup);
+  reserve_for_lines(soup, most, most);
 }
 
 // An `f` line of plain vertex indices (line n of the chunk) into the chunk, a comment

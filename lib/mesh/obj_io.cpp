@@ -242,10 +242,7 @@ void reserve_for(std::string_view text, PolygonSoup& soup) {
     const auto [v, f] = count_keyed_lines(text, 'v', 'f');
     vertices = std::min(v, most), faces = std::min(f, most - vertices);
   }
-  soup.positions.reserve(vertices);
-  soup.elements.reserve(faces, 3);
-  soup.elements.lines.reserve(faces);
-  advise_huge_pages(soup);
+  reserve_for_lines(soup, vertices, faces);
 }
 
 // Whether `key` can name an OBJ statement: a letter or '_', then letters, digits, '_'.

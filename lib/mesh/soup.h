@@ -37,9 +37,13 @@ struct PolygonSoup {
   std::shared_ptr<const ObjSource> obj;     // an OBJ's statements not interpreted (obj_source.h)
 };
 
-/// Huge pages (common/zeroed_array.h) for the two largest arrays a reader has reserved and
-/// is about to fill front to back, the positions and the corners.
-inline void advise_huge_pages(const PolygonSoup& soup) {
+/// Reserves a reader's arrays for `vertices` vertices and `faces` triangles with their file
+/// lines, to be filled front to back, and asks huge pages (common/zeroed_array.h) for the
+/// two largest, the positions and the corners.
+inline void reserve_for_lines(PolygonSoup& soup, std::size_t vertices, std::size_t faces) {
+  soup.positions.reserve(vertices);
+  soup.elements.reserve(faces, 3);
+  soup.elements.lines.reserve(faces);
   advise_huge_pages(soup.positions.data(), soup.positions.capacity() * sizeof(Eigen::Vector3d));
   advise_huge_pages(soup.elements.corners.data(), soup.elements.corners.capacity() * sizeof(soup.elements.corners[0]));
 }
