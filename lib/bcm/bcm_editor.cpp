@@ -28,6 +28,16 @@ void BcmFactorDelete::operator()(BcmFactor* factor) const { delete factor; }
 
 namespace {
 
+// The mean of the columns, summed in column order. Eigen's rowwise().mean() into a
+// Vector3d sums two of the rows as one SIMD packet, pairwise, and the third alone, in
+// order; which two share the packet depends on the destination's address, so the same
+// points gave origins 1e-17 apart in two BcmData objects on different stack slots.
+Eigen::Vector3d column_mean(const Eigen::Matrix3Xd& points) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < points.cols(); ++i) sum += points.col(i);
+  return sum / static_cast<double>(points.cols());
+}
+
 // The affine frame of a handle (eq. 6). The paper picks four affinely independent handle
 // vertices a, b, c, d; we use the handle's centroid and the centroid plus one RMS radius
 // along each world axis instead. Only affine invariance matters to eq. 6 (T(Q[a b c d]ᵀ)
@@ -35,7 +45,7 @@ namespace {
 // conditioned, where a flat, straight or one-vertex handle has no four affinely
 // independent vertices.
 void handle_frame(const Eigen::Matrix3Xd& points, Eigen::Vector3d& centroid, double& radius) {
-  centroid = points.rowwise().mean();
+  centroid = column_mean(points);
   radius = std::sqrt((points.colwise() - centroid).colwise().squaredNorm().mean());
   if (!(radius > 0)) radius = 1.0;
 }
@@ -194,7 +204,7 @@ void bcm_regions_and_rings(BcmData& data, const Mesh& mesh, const std::vector<st
   data.stencil_setup.resize(3, v_count);
   for (Eigen::Index i = 0; i < v_count; ++i)
     data.stencil_setup.col(i) = positions.col(st.vertices[static_cast<std::size_t>(i)]);
-  data.origin = data.stencil_setup.rowwise().mean();
+  data.origin = column_mean(data.stencil_setup);
   data.stencil_setup.colwise() -= data.origin;
   data.handle_setup.assign(handles.size(), {});
   for (std::size_t h = 0; h < handles.size(); ++h) {
