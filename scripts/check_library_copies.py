@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
-"""Checks the sanitizers' test binary: every function that both the tests' objects and the
-library's archives compile out of line (an inline or template function, kept once by the
-linker) is the library's copy in the binary, so that the library runs instrumented code
-although the tests' own code is not instrumented (tests/CMakeLists.txt).
+"""Checks the test binary: every function that both the tests' objects and the library's
+archives compile out of line (an inline or template function, kept once by the linker) is
+the library's copy in the binary, so that the library runs the code ffdtool runs: -O3
+where the tests' own code is -O1, instrumented in the sanitizers' build where the tests'
+own code is not (tests/CMakeLists.txt).
 
 Usage: check_library_copies.py BINARY TEST_OBJECT_DIR ARCHIVE...
-A copy is told by its size: the instrumented and the uninstrumented copies of a function
-differ in size; one whose sizes agree is not counted. Exit 1 naming the functions that are
-the tests' copies, 2 on bad usage.
+A copy is told by its size: the library's and the tests' copies of a function, compiled
+with other options, mostly differ in size; one whose sizes agree is not counted. Exit 1
+naming the functions that are the tests' copies, 2 on bad usage.
 """
 import pathlib
 import subprocess
