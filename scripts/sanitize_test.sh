@@ -11,9 +11,9 @@
 # UBSan's object-size check left to ASan, the tests' own code without line tables and
 # the Hausdorff oracles in their own uninstrumented library, cold on 2 cores: build
 # 428 s, suite 131-152 s (it was 260-312 s). The tests' own code is not instrumented
-# (tests/CMakeLists.txt): the sanitizers check the library and the CLI they call. clang's runtimes and OpenMP come from
-# scripts/setup.sh (libclang-rt-dev, libomp-dev). A build-asan/ configured with another
-# compiler is configured afresh.
+# (tests/CMakeLists.txt): the sanitizers check the library and the CLI they call.
+# clang's runtimes and OpenMP come from scripts/setup.sh (libclang-rt-dev, libomp-dev).
+# A build-asan/ configured with another compiler is configured afresh.
 # Run scripts/test.sh first: its default build's kernel outputs are the reference here.
 # Usage: scripts/sanitize_test.sh [CTEST ARGS...]
 set -euo pipefail
