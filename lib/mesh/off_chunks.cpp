@@ -88,9 +88,7 @@ void off_reserve_chunk(std::size_t k, std::size_t bytes, const OffBody& body, Po
   const auto vertices = static_cast<std::size_t>(body.vertices), faces = static_cast<std::size_t>(body.faces);
   const std::size_t v = k == 0 ? vertices : std::min(vertices, bytes / 6 + 1);
   const std::size_t f = k == 0 ? faces : std::min(faces, bytes / 8 + 1);
-  soup.positions.reserve(v);
-  soup.elements.reserve(f, 3);
-  soup.elements.lines.reserve(f);
+  reserve_for_lines(soup, v, f);
 }
 
 }  // namespace
