@@ -87,8 +87,10 @@ void write_file(const std::string& path, const std::string& bytes);
 std::vector<ChildRun> run_repeated(const std::vector<std::string>& argv, const TempFolder& dir, int warmups,
                                    int repeats);
 
-/// Median wall time and median peak RSS of `runs`.
-void child_medians(const std::vector<ChildRun>& runs, double& ms, double& peak_bytes);
+/// Median wall time and median peak RSS of `runs`, and their median minor page faults
+/// where `minor_faults` is given.
+void child_medians(const std::vector<ChildRun>& runs, double& ms, double& peak_bytes,
+                   double* minor_faults = nullptr);
 
 /// What a Blender row says when there is no Blender.
 inline constexpr const char* kNoBlender = "not installed: apt-get install blender";

@@ -89,10 +89,7 @@ ToolRuns run_ffdtool(const std::string& ffdtool, const TempFolder& dir, const st
     r.stats.push_back(json::parse(is));
     runs.push_back(std::move(run));
   }
-  child_medians(runs, r.ms, r.peak_bytes);
-  std::vector<double> faults;
-  for (const ChildRun& run : runs) faults.push_back(static_cast<double>(run.minor_faults));
-  r.minor_faults = median(faults);
+  child_medians(runs, r.ms, r.peak_bytes, &r.minor_faults);
   return r;
 }
 

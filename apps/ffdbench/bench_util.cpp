@@ -163,15 +163,16 @@ std::vector<ChildRun> run_repeated(const std::vector<std::string>& argv, const T
   return runs;
 }
 
-/// Median wall time and median peak RSS of `runs`.
-void child_medians(const std::vector<ChildRun>& runs, double& ms, double& peak_bytes) {
-  std::vector<double> times, peaks;
+void child_medians(const std::vector<ChildRun>& runs, double& ms, double& peak_bytes, double* minor_faults) {
+  std::vector<double> times, peaks, faults;
   for (const ChildRun& r : runs) {
     times.push_back(r.ms);
     peaks.push_back(static_cast<double>(r.peak_bytes));
+    faults.push_back(static_cast<double>(r.minor_faults));
   }
   ms = median(times);
   peak_bytes = median(peaks);
+  if (minor_faults) *minor_faults = median(faults);
 }
 
 /// The Blender the io and users suites run: `configured` (\throw InputError if it is not an

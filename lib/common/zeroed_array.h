@@ -46,6 +46,12 @@ void prefault(void* p, std::size_t bytes);
 /// where the kernel does without transparent huge pages, or where the advice is refused.
 void advise_huge_pages(const void* p, std::size_t bytes);
 
+/// advise_huge_pages over a vector's reserved room, all of its capacity.
+template <class Vector>
+void advise_huge_pages_reserved(const Vector& v) {
+  advise_huge_pages(v.data(), v.capacity() * sizeof(*v.data()));
+}
+
 template <class T>
 class ZeroedArray {
   static_assert(std::is_trivially_copyable_v<T>, "zero bits must be a value of T");

@@ -271,7 +271,7 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
     if (std::optional<PolygonSoup> chunked = read_off_in_chunks(text, read.counts, counts_line, nv, nf, release_text))
       return std::move(*chunked);
   soup.positions.reserve(nv);
-  advise_huge_pages(soup.positions.data(), soup.positions.capacity() * sizeof(Eigen::Vector3d));
+  advise_huge_pages_reserved(soup.positions);
   if (header.normal) soup.normals.reserve(nv);
   soup.normals_per_vertex = header.normal;
   const bool plain = fast && !header.normal && !header.color && !header.st;
@@ -283,7 +283,7 @@ PolygonSoup read_off_lines(std::string_view text, const std::string& file, bool 
     if (!t.empty()) read_off_vertex(t, header, file, lines.number(), soup);
   }
   soup.elements.reserve(static_cast<std::size_t>(nf), 3);
-  advise_huge_pages(soup.elements.corners.data(), soup.elements.corners.capacity() * sizeof(soup.elements.corners[0]));
+  advise_huge_pages_reserved(soup.elements.corners);
   std::vector<std::uint32_t> corners;
   std::vector<std::string_view> more;
   while (static_cast<long long>(soup.elements.size()) < nf) {

@@ -44,8 +44,8 @@ inline void reserve_for_lines(PolygonSoup& soup, std::size_t vertices, std::size
   soup.positions.reserve(vertices);
   soup.elements.reserve(faces, 3);
   soup.elements.lines.reserve(faces);
-  advise_huge_pages(soup.positions.data(), soup.positions.capacity() * sizeof(Eigen::Vector3d));
-  advise_huge_pages(soup.elements.corners.data(), soup.elements.corners.capacity() * sizeof(soup.elements.corners[0]));
+  advise_huge_pages_reserved(soup.positions);
+  advise_huge_pages_reserved(soup.elements.corners);
 }
 
 }  // namespace ffd
