@@ -241,22 +241,35 @@ void OctreeLattice::ensure_rest(int l, const std::vector<GridIndex>& cells) cons
   if (pending.empty()) return;
   // A point of C^k on a cell's closure reads C^(k-1) one ring of C^(k-1) cells around,
   // and its rule depends on the cells there: k rings of the level's cells hold all it reads.
-  std::vector<std::uint8_t> near(static_cast<std::size_t>(res) * res * res, 0);
+  // So step k subdivides only the cells within rings - k rings of the pending ones: C^k
+  // there reads C^(k-1) within one ring more, which the step before made exactly (the
+  // same stencils over the same cells, so the same values bit for bit as subdividing the
+  // whole region at every step, in a third of the cells at the last step with cc_steps 2).
+  // ring[c]: 1 + the cell's Chebyshev distance in cells from the nearest pending cell, 0
+  // outside the region.
+  std::vector<std::uint8_t> ring(static_cast<std::size_t>(res) * res * res, 0);
   std::vector<GridIndex> region;
   for (const GridIndex& c : pending)
     for (int k = std::max(0, c[2] - rings); k <= std::min(res - 1, c[2] + rings); ++k)
       for (int j = std::max(0, c[1] - rings); j <= std::min(res - 1, c[1] + rings); ++j)
         for (int i = std::max(0, c[0] - rings); i <= std::min(res - 1, c[0] + rings); ++i) {
-          std::uint8_t& seen = near[dense_cell({i, j, k}, res)];
-          if (!seen && g.has_cell(i, j, k)) region.push_back({i, j, k});
-          seen = 1;
+          if (!g.has_cell(i, j, k)) continue;
+          std::uint8_t& r = ring[dense_cell({i, j, k}, res)];
+          const int d = 1 + std::max({std::abs(i - c[0]), std::abs(j - c[1]), std::abs(k - c[2])});
+          if (r == 0) region.push_back({i, j, k});
+          if (r == 0 || d < r) r = static_cast<std::uint8_t>(d);
         }
   GridComplex local = make_grid_complex(res, std::move(region));
   Eigen::MatrixXd field(3, static_cast<Eigen::Index>(local.num_points()));
   for (std::size_t p = 0; p < local.num_points(); ++p)
     field.col(static_cast<Eigen::Index>(p)) = level.rest.col(g.point(local.points[p]));
   for (int k = 1; k <= options_.cc_steps; ++k) {
-    GridComplex finer = refine(local);
+    const int shift = k - 1;  // a cell of C^(k-1) lies in the level's cell at its index >> shift
+    const GridComplex kept = sub_complex(local, [&](std::size_t c) {
+      const GridIndex& q = local.cells[c];
+      return ring[dense_cell({q[0] >> shift, q[1] >> shift, q[2] >> shift}, res)] <= 1 + rings - k;
+    });
+    GridComplex finer = refine(kept);
     field = subdivide_field(local, finer, field, SubdivisionRule::CatmullClark);
     const int span = 1 << k;  // nodes of C^k per cell of the level, per axis
     ZeroedArray<std::uint8_t>& written = level.written[static_cast<std::size_t>(k - 1)];
