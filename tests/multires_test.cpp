@@ -561,22 +561,23 @@ TEST(OctreeLattice, ASmallLevelsMovesAreTheWholeStepMatricesProducts) {
   }
 }
 
-TEST(OctreeLattice, TheRestLatticeSubdividedOnDemandIsTheWholeLevelsBitForBit) {
-  // A large level subdivides its rest lattice only in the cells a move marks (and where
-  // a location walks to); the positions there are the whole level's subdivision exactly,
-  // so the deformation is too.
+/// Moves two points of `level` in a lattice that subdivides its rest lattice on demand and
+/// in one whose rest lattice is subdivided whole first: both deform the bunny alike, bit
+/// for bit.
+void expect_on_demand_rest_is_whole(int level, int cc_steps) {
+  SCOPED_TRACE("level " + std::to_string(level) + ", cc_steps " + std::to_string(cc_steps));
   BunnyLattice b;
-  OctreeOptions o = options(4, 2);
+  OctreeOptions o = options(level, cc_steps);
   o.whole_level_cells = 0;
   OctreeLattice lazy(b.box, b.x, o), whole(b.box, b.x, o);
-  for (int k = 1; k <= 2; ++k) whole.subdivided_rest(4, k);  // every cell, in one go
-  const GridComplex& g = lazy.complex(4);
+  for (int k = 1; k <= cc_steps; ++k) whole.subdivided_rest(level, k);  // every cell, in one go
+  const GridComplex& g = lazy.complex(level);
   for (std::size_t p : {g.num_points() / 3, g.num_points() / 2}) {
-    move_one(lazy, 4, g.points[p], Eigen::Vector3d(0.01, 0.0, 0.015));
-    move_one(whole, 4, g.points[p], Eigen::Vector3d(0.01, 0.0, 0.015));
+    move_one(lazy, level, g.points[p], Eigen::Vector3d(0.01, 0.0, 0.015));
+    move_one(whole, level, g.points[p], Eigen::Vector3d(0.01, 0.0, 0.015));
   }
-  EXPECT_LT(lazy.rest_cells_subdivided(4), g.num_cells() / 2);
-  EXPECT_EQ(whole.rest_cells_subdivided(4), g.num_cells());
+  EXPECT_LT(lazy.rest_cells_subdivided(level), g.num_cells() / 2);
+  EXPECT_EQ(whole.rest_cells_subdivided(level), g.num_cells());
   std::vector<std::uint32_t> ids;
   lazy.changed_points(b.x, ids);
   Eigen::Matrix3Xd nrm = b.mesh.normals(), pa = b.x, pb = b.x, na = nrm, nb = nrm;
@@ -590,6 +591,18 @@ TEST(OctreeLattice, TheRestLatticeSubdividedOnDemandIsTheWholeLevelsBitForBit) {
     EXPECT_TRUE((lazy.apply(b.x.col(v), &Ja).array() == whole.apply(b.x.col(v), &Jb).array()).all());
     EXPECT_TRUE((Ja.array() == Jb.array()).all());
   }
+  // Every point the moves subdivided keeps its value when the rest of the level is filled.
+  for (int k = 1; k <= cc_steps; ++k)
+    EXPECT_TRUE((lazy.subdivided_rest(level, k).array() == whole.subdivided_rest(level, k).array()).all()) << "C^" << k;
+}
+
+TEST(OctreeLattice, TheRestLatticeSubdividedOnDemandIsTheWholeLevelsBitForBit) {
+  // A large level subdivides its rest lattice only in the cells a move marks (and where
+  // a location walks to), each Catmull-Clark step k over the cells within cc_steps - k
+  // rings of those; the positions there are the whole level's subdivision exactly, so the
+  // deformation is too. Three steps check the rings' count as well as two.
+  expect_on_demand_rest_is_whole(4, 2);
+  expect_on_demand_rest_is_whole(3, 3);
 }
 
 TEST(OctreeLattice, AFirstMoveAtTheFinestLevelLocatesFewVertices) {
