@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <cmath>
 #include <stdexcept>
 
@@ -232,24 +233,69 @@ std::size_t OctreeLattice::rest_cells_subdivided(int l) const {
   return n;
 }
 
+// ensure_rest's region. A new point of C^k reads the cells of C^(k-1) incident to the
+// element (vertex, edge, face or cell) it is made for, and their corners, and its rule
+// depends on those cells alone. Per axis, a cell q of C^k so reads its parent and the
+// parent's neighbour on q's side. So C^k is exact within m cells of C^k of the pending
+// cells when C^(k-1) is exact within floor(m / 2) + 1 cells of C^(k-1), and C^0, the
+// level itself, is exact everywhere. Each step computes only what the next one reads:
+// the same stencils over the same cells, so the same values bit for bit as subdividing
+// the whole level. With cc_steps 2, around one pending cell: 3^3 cells of the level,
+// 4^3 of C^1 and 4^3 of C^2 (in whole rings of the level's cells: 5^3, 6^3 and 4^3).
+
+/// Per step k of `steps`, how many cells of C^k around the pending cells must be exact.
+static std::vector<int> rest_margins(int steps) {
+  std::vector<int> margin(static_cast<std::size_t>(steps) + 1, 0);
+  for (int k = steps; k >= 1; --k) margin[static_cast<std::size_t>(k - 1)] = margin[static_cast<std::size_t>(k)] / 2 + 1;
+  return margin;
+}
+
+/// The Chebyshev distance, in cells of C^k (k >= 1), from cell q of C^k to the pending
+/// cells' subdivisions, or INT_MAX past one level cell from them (more than the margins of
+/// C^k, at most 1). ring[c]: 1 + level cell c's Chebyshev distance in cells from the
+/// nearest pending cell (1: pending).
+static int pending_distance(const GridIndex& q, int k, const std::vector<std::uint8_t>& ring, int res) {
+  const GridIndex at{q[0] >> k, q[1] >> k, q[2] >> k};
+  const std::uint8_t r = ring[dense_cell(at, res)];
+  if (r == 1) return 0;
+  if (r != 2) return std::numeric_limits<int>::max();
+  int best = std::numeric_limits<int>::max();
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const GridIndex p{at[0] + dx, at[1] + dy, at[2] + dz};
+        if (std::min({p[0], p[1], p[2]}) < 0 || std::max({p[0], p[1], p[2]}) >= res || ring[dense_cell(p, res)] != 1) continue;
+        int d = 0;
+        for (int a = 0; a < 3; ++a) d = std::max({d, (p[a] << k) - q[a], q[a] - (((p[a] + 1) << k) - 1)});
+        best = std::min(best, d);
+      }
+  return best;
+}
+
+/// The children of `coarse`'s cells (C^(k-1)) within `margin` cells of C^k of the pending cells.
+static GridComplex children_near(const GridComplex& coarse, int k, int margin, const std::vector<std::uint8_t>& ring,
+                                 int res) {
+  std::vector<GridIndex> kept;
+  for (const GridIndex& c : coarse.cells)
+    for (int child = 0; child < 8; ++child) {
+      const GridIndex q{2 * c[0] + (child & 1), 2 * c[1] + (child >> 1 & 1), 2 * c[2] + (child >> 2)};
+      if (pending_distance(q, k, ring, res) <= margin) kept.push_back(q);
+    }
+  return make_grid_complex(coarse.resolution * 2, std::move(kept));
+}
+
 void OctreeLattice::ensure_rest(int l, const std::vector<GridIndex>& cells) const {
   std::lock_guard<std::mutex> lock(rest_mutex_);
   Level& level = levels_[l];
   const GridComplex& g = level.sub[0];
-  const int res = g.resolution, rings = options_.cc_steps;
+  const int res = g.resolution;
   std::vector<GridIndex> pending;
   for (const GridIndex& c : cells)
     if (g.has_cell(c[0], c[1], c[2]) && !rest_ready(l, c)) pending.push_back(c);
   if (pending.empty()) return;
-  // A point of C^k on a cell's closure reads C^(k-1) one ring of C^(k-1) cells around,
-  // and its rule depends on the cells there: k rings of the level's cells hold all it reads.
-  // So step k subdivides only the cells within rings - k rings of the pending ones: C^k
-  // there reads C^(k-1) within one ring more, which the step before made exactly (the
-  // same stencils over the same cells, so the same values bit for bit as subdividing the
-  // whole region at every step, in a third of the cells at the last step with cc_steps 2).
-  // ring[c]: 1 + the cell's Chebyshev distance in cells from the nearest pending cell, 0
-  // outside the region.
-  std::vector<std::uint8_t> ring(static_cast<std::size_t>(res) * res * res, 0);
+  const std::vector<int> margin = rest_margins(options_.cc_steps);
+  const int rings = margin[0];
+  std::vector<std::uint8_t> ring(static_cast<std::size_t>(res) * res * res, 0);  // 0: outside the region
   std::vector<GridIndex> region;
   for (const GridIndex& c : pending)
     for (int k = std::max(0, c[2] - rings); k <= std::min(res - 1, c[2] + rings); ++k)
@@ -266,12 +312,7 @@ void OctreeLattice::ensure_rest(int l, const std::vector<GridIndex>& cells) cons
   for (std::size_t p = 0; p < local.num_points(); ++p)
     field.col(static_cast<Eigen::Index>(p)) = level.rest.col(g.point(local.points[p]));
   for (int k = 1; k <= options_.cc_steps; ++k) {
-    const int shift = k - 1;  // a cell of C^(k-1) lies in the level's cell at its index >> shift
-    const GridComplex kept = sub_complex(local, [&](std::size_t c) {
-      const GridIndex& q = local.cells[c];
-      return ring[dense_cell({q[0] >> shift, q[1] >> shift, q[2] >> shift}, res)] <= 1 + rings - k;
-    });
-    GridComplex finer = refine(kept);
+    GridComplex finer = children_near(local, k, margin[static_cast<std::size_t>(k)], ring, res);
     field = subdivide_field(local, finer, field, SubdivisionRule::CatmullClark);
     const int span = 1 << k;  // nodes of C^k per cell of the level, per axis
     ZeroedArray<std::uint8_t>& written = level.written[static_cast<std::size_t>(k - 1)];
