@@ -563,12 +563,13 @@ TEST(OctreeLattice, ASmallLevelsMovesAreTheWholeStepMatricesProducts) {
 
 /// Moves two points of `level` in a lattice that subdivides its rest lattice on demand and
 /// in one whose rest lattice is subdivided whole first: both deform the bunny alike, bit
-/// for bit.
-void expect_on_demand_rest_is_whole(int level, int cc_steps) {
-  SCOPED_TRACE("level " + std::to_string(level) + ", cc_steps " + std::to_string(cc_steps));
+/// for bit. `small`: the level moves by its steps' matrices (whole_level_cells), else by
+/// N_{S,3}.
+void expect_on_demand_rest_is_whole(int level, int cc_steps, bool small = false) {
+  SCOPED_TRACE("level " + std::to_string(level) + ", cc_steps " + std::to_string(cc_steps) + (small ? ", small" : ""));
   BunnyLattice b;
   OctreeOptions o = options(level, cc_steps);
-  o.whole_level_cells = 0;
+  o.whole_level_cells = small ? std::size_t{1} << 20 : 0;
   OctreeLattice lazy(b.box, b.x, o), whole(b.box, b.x, o);
   for (int k = 1; k <= cc_steps; ++k) whole.subdivided_rest(level, k);  // every cell, in one go
   const GridComplex& g = lazy.complex(level);
@@ -597,12 +598,14 @@ void expect_on_demand_rest_is_whole(int level, int cc_steps) {
 }
 
 TEST(OctreeLattice, TheRestLatticeSubdividedOnDemandIsTheWholeLevelsBitForBit) {
-  // A large level subdivides its rest lattice only in the cells a move marks (and where
-  // a location walks to), each Catmull-Clark step k over the cells within cc_steps - k
-  // rings of those; the positions there are the whole level's subdivision exactly, so the
-  // deformation is too. Three steps check the rings' count as well as two.
+  // A level subdivides its rest lattice only in the cells a move marks (and where a
+  // location walks to), each Catmull-Clark step over as much of C^k as the next one reads
+  // there; the positions there are the whole level's subdivision exactly, so the
+  // deformation is too, for a level that moves by its steps' matrices as for one that
+  // moves by N_{S,3}. Three steps check the margins' recursion as well as two.
   expect_on_demand_rest_is_whole(4, 2);
   expect_on_demand_rest_is_whole(3, 3);
+  expect_on_demand_rest_is_whole(4, 2, true);
 }
 
 TEST(OctreeLattice, AFirstMoveAtTheFinestLevelLocatesFewVertices) {

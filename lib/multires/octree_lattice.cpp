@@ -184,7 +184,7 @@ OctreeMove OctreeLattice::move_level_points(int l, const std::vector<std::int32_
   // (ready_cell). Subdividing a ring more here in advance cost more than those few cells
   // (blob39k, level 4's first move: 134 cells in 7.1 ms, against 69 cells in 3.3 ms and
   // eleven single cells walked into, 0.1-0.2 ms each).
-  if (level.ready) ensure_rest(l, marked_cells(level.sub[0], ids));
+  ensure_rest(l, marked_cells(level.sub[0], ids));
   level.moved = true;
   any_changed_ = any_changed_ || !ids.empty();
   return report;
@@ -194,30 +194,26 @@ void OctreeLattice::ensure_subdivided(int l) const {
   Level& level = levels_[l];
   if (level.stepped) return;
   level.stepped = true;
-  // A small level is subdivided whole, topology and positions, and its step matrices
-  // are built row by row where moves reach (update_by_rows); a large one builds no
-  // topology (StepGrid implies it) and gets its rest positions cell by cell (ensure_rest),
-  // into fields over its slots that no step touches until it needs them.
+  // A small level builds its whole topology, and its step matrices row by row where moves
+  // reach (update_by_rows); a large one builds no topology (StepGrid implies it). Both get
+  // their rest positions cell by cell (ensure_rest), where moves mark cells and locates
+  // walk, into fields over C^k's points (or slots) that no step touches until it needs
+  // them: the same values as subdividing the whole level, bit for bit.
   const bool whole = level.sub[0].num_cells() <= options_.whole_level_cells;
   for (int k = 1; k <= options_.cc_steps; ++k) {
     if (whole) {
       level.sub.push_back(refine(level.sub[static_cast<std::size_t>(k - 1)]));
-      level.fine.push_back(subdivide_field(level.sub[static_cast<std::size_t>(k - 1)], level.sub.back(),
-                                           level.fine.back(), SubdivisionRule::CatmullClark));
       level.rows.emplace_back();
       level.row_of.emplace_back(level.sub.back().num_points());
-    } else {
-      const std::size_t slots = level.step_grid(k).num_points();
-      level.fine.emplace_back(3, static_cast<Eigen::Index>(slots));  // written by ensure_rest, slot by slot
-      level.written.emplace_back(slots);
     }
+    const std::size_t points = level.step_grid(k).num_points();
+    level.fine.emplace_back(3, static_cast<Eigen::Index>(points));  // written by ensure_rest, point by point
+    level.written.emplace_back(points);
     // A level is subdivided before its first move: there is nothing to subdivide yet.
-    level.disp.emplace_back(level.fine.back().cols());
+    level.disp.emplace_back(static_cast<Eigen::Index>(points));
   }
-  if (!whole) {
-    const std::size_t res = static_cast<std::size_t>(level.sub[0].resolution);
-    level.ready.reset(new std::atomic<std::uint8_t>[res * res * res]());
-  }
+  const std::size_t res = static_cast<std::size_t>(level.sub[0].resolution);
+  level.ready.reset(new std::atomic<std::uint8_t>[res * res * res]());
 }
 
 bool OctreeLattice::rest_ready(int l, const GridIndex& cell) const {
@@ -586,7 +582,7 @@ const GridComplex& OctreeLattice::subdivided(int l, int k) const {
 const Eigen::Matrix3Xd& OctreeLattice::subdivided_rest(int l, int k) const {
   ensure_subdivided(l);
   const Level& level = levels_[l];
-  if (level.ready) ensure_rest(l, level.sub[0].cells);
+  ensure_rest(l, level.sub[0].cells);
   if (static_cast<std::size_t>(k) < level.sub.size()) return level.fine[static_cast<std::size_t>(k)];
   const GridComplex& g = subdivided(l, k);
   Inspected& seen = inspected_[{l, k}];

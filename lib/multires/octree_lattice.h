@@ -29,7 +29,7 @@
 // changed_points() reports only the vertices there; every other vertex is untouched.
 // Points outside every cell of every moved level are never changed, bit for bit. The rest
 // lattice's subdivisions C^k(R_l) are local too: a large level builds no C^k topology
-// (StepGrid implies it from the level's grid) and its first move subdivides the rest
+// (StepGrid implies it from the level's grid), and a level's first move subdivides the rest
 // positions only in the cells it marks (and, on demand, where locating a vertex walks),
 // into fields that stay untouched memory elsewhere, so a first move costs about what a
 // later one does.
@@ -228,11 +228,11 @@ private:
     // its slots.
     std::vector<GridComplex> sub;
     std::vector<Eigen::Matrix3Xd> fine;    // fine[k] = C^k(R_l) positions, where `ready` says
-    // Large levels subdivide their rest lattice where it is needed (section 3.2: a move
+    // Levels subdivide their rest lattice where it is needed (section 3.2: a move
     // subdivides N_{S,3}, not the level): per cell of the level's grid (dense), whether
     // fine[k] holds C^k(R_l) at every point of the cell's subdivisions, for every k; and per
-    // step k >= 1 and slot of C^k, whether fine[k] holds it. Null `ready`: the whole
-    // level is subdivided (small levels).
+    // step k >= 1 and point (or slot) of C^k, whether fine[k] holds it. Null `ready`: the
+    // level is not subdivided yet (ensure_subdivided).
     std::unique_ptr<std::atomic<std::uint8_t>[]> ready;
     std::vector<ZeroedArray<std::uint8_t>> written;
     std::vector<Field> disp;               // disp[k] = C^k(delta_l)
