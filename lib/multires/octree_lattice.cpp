@@ -152,6 +152,10 @@ const Eigen::MatrixXd& OctreeLattice::deformation(int l) const {
   return delta;
 }
 
+/// Levels of at most this many cells (4^3: levels 0-2 of a full octree) build the topology
+/// of their C^k (ensure_subdivided).
+constexpr std::size_t kBuiltLevelCells = 64;
+
 /// The grid cells mark_changed marks for the points `ids` (in the grid, existing or not).
 static std::vector<GridIndex> marked_cells(const GridComplex& g, const std::vector<std::int32_t>& ids) {
   std::vector<GridIndex> out;
@@ -194,23 +198,28 @@ void OctreeLattice::ensure_subdivided(int l) const {
   Level& level = levels_[l];
   if (level.stepped) return;
   level.stepped = true;
-  // A small level builds its whole topology, and its step matrices row by row where moves
-  // reach (update_by_rows); a large one builds no topology (StepGrid implies it). Both get
-  // their rest positions cell by cell (ensure_rest), where moves mark cells and locates
-  // walk, into fields over C^k's points (or slots) that no step touches until it needs
-  // them: the same values as subdividing the whole level, bit for bit.
+  // A level reads its C^k through StepGrid, which implies C^k from the level's grid; only
+  // a level of at most kBuiltLevelCells builds C^k's topology, which its first move needs
+  // whole (it marks every cell) and the apply over most of the mesh reads faster than
+  // slots (blob39k, levels 0-2: about 1 ms a first move). A small level builds its step
+  // matrices row by row where moves reach (update_by_rows, each row summing in the order
+  // of its nodes, over slots or points). Every level gets its rest positions cell by cell
+  // (ensure_rest), where moves mark cells and locates walk, into fields that no step
+  // touches until it needs them: the same values as subdividing the whole level, bit for
+  // bit. Building level 3's C^2 (up to 512 cells) took 3 ms of its first move.
   const bool whole = level.sub[0].num_cells() <= options_.whole_level_cells;
+  const bool build = level.sub[0].num_cells() <= kBuiltLevelCells;
   for (int k = 1; k <= options_.cc_steps; ++k) {
+    if (build) level.sub.push_back(refine(level.sub[static_cast<std::size_t>(k - 1)]));
+    const std::size_t slots = level.step_grid(k).num_points();  // or points of the built C^k
     if (whole) {
-      level.sub.push_back(refine(level.sub[static_cast<std::size_t>(k - 1)]));
       level.rows.emplace_back();
-      level.row_of.emplace_back(level.sub.back().num_points());
+      level.row_of.emplace_back(slots);
     }
-    const std::size_t points = level.step_grid(k).num_points();
-    level.fine.emplace_back(3, static_cast<Eigen::Index>(points));  // written by ensure_rest, point by point
-    level.written.emplace_back(points);
+    level.fine.emplace_back(3, static_cast<Eigen::Index>(slots));  // written by ensure_rest, slot by slot
+    level.written.emplace_back(slots);
     // A level is subdivided before its first move: there is nothing to subdivide yet.
-    level.disp.emplace_back(static_cast<Eigen::Index>(points));
+    level.disp.emplace_back(static_cast<Eigen::Index>(slots));
   }
   const std::size_t res = static_cast<std::size_t>(level.sub[0].resolution);
   level.ready.reset(new std::atomic<std::uint8_t>[res * res * res]());
@@ -382,8 +391,15 @@ void OctreeLattice::update_displacements(int l, const std::vector<std::int32_t>&
   report.cells_subdivided = patch_cells;
 }
 
+/// Whether grid node n is a corner of some cell of `grid` (a slot's node may be no cell's).
+static bool is_corner(const StepGrid& grid, const GridIndex& n) {
+  for (int c = 0; c < 8; ++c)
+    if (grid.has_cell(n[0] - (c & 1), n[1] - (c >> 1 & 1), n[2] - (c >> 2))) return true;
+  return false;
+}
+
 /// The points of C^k (fine) whose subdivision stencils read one of the points `changed`
-/// of C^(k-1) (coarse), both built complexes (a small level's). A stencil reads the
+/// of C^(k-1) (coarse), a small level's (built complexes or slots). A stencil reads the
 /// corners of coarse cells at the new point's node / 2 and one step below it on each
 /// axis, so coarse nodes within 1 of node / 2 on every axis (the 27 nodes
 /// volume_subdivision.cpp's StencilBuilder looks up; no grid rule reads beyond them).
@@ -412,8 +428,8 @@ static std::vector<std::int32_t> points_reading(const StepGrid& coarse, const St
       for (int x = std::max(0, 2 * lo[0]); x <= std::min(res, 2 * hi[0] + 1); ++x) {
         const long long i = (x >> 1) - lo[0], j = (y >> 1) - lo[1], k = (z >> 1) - lo[2];
         if (!reach[static_cast<std::size_t>((k * ny + j) * nx + i)]) continue;
-        const std::int32_t p = fine.point({x, y, z});  // -1 unless some cell's corner
-        if (p >= 0) out.push_back(p);
+        const std::int32_t p = fine.point({x, y, z});  // a slot, or -1
+        if (p >= 0 && is_corner(fine, {x, y, z})) out.push_back(p);
       }
   return out;
 }
@@ -571,7 +587,7 @@ const GridComplex& OctreeLattice::subdivided(int l, int k) const {
   ensure_subdivided(l);
   const Level& level = levels_[l];
   if (static_cast<std::size_t>(k) < level.sub.size()) return level.sub[static_cast<std::size_t>(k)];
-  Inspected& seen = inspected_[{l, k}];  // a large level's C^k, built for the caller only
+  Inspected& seen = inspected_[{l, k}];  // the level's C^k, built for the caller only
   if (seen.complex.cells.empty()) {
     seen.complex = level.sub[0];
     for (int step = 1; step <= k; ++step) seen.complex = refine(seen.complex);

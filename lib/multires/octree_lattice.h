@@ -186,9 +186,10 @@ public:
   bool locate(int level, const Eigen::Vector3d& x, const Eigen::Vector3d& t, Location& where,
               Eigen::Matrix3d* dx_du = nullptr) const;
   /// The k-th Catmull-Clark subdivision of the level's rest lattice (k = 0: the level),
-  /// built on first use, and its points' positions (the whole level subdivided). A large
-  /// level never builds its C^k topology itself (StepGrid): for it these are built on the
-  /// call, for inspection (tests, benchmarks), and kept beside the lattice's own data.
+  /// built on first use, and its points' positions (the whole level subdivided). A level
+  /// of more than 64 cells never builds its C^k topology itself (StepGrid): for it these
+  /// are built on the call, for inspection (tests, benchmarks), and kept beside the
+  /// lattice's own data.
   const GridComplex& subdivided(int level, int k) const;
   const Eigen::Matrix3Xd& subdivided_rest(int level, int k) const;
   /// C^k(delta), the k-th subdivision of the grid level's own moves, on the points of
@@ -223,9 +224,9 @@ private:
     Eigen::Map<const Eigen::Matrix3Xd> map() const { return {values.data(), 3, cols}; }
   };
   struct Level {
-    // sub[k] = C^k topology; sub[0] the level itself. Only small levels build k >= 1: a
-    // large level's C^k is implied by its grid (StepGrid), and fine[k], disp[k] are over
-    // its slots.
+    // sub[k] = C^k topology; sub[0] the level itself. Only levels of at most 64 cells
+    // build k >= 1: another level's C^k is implied by its grid (StepGrid), and fine[k],
+    // disp[k] and row_of[k - 1] are over its slots.
     std::vector<GridComplex> sub;
     std::vector<Eigen::Matrix3Xd> fine;    // fine[k] = C^k(R_l) positions, where `ready` says
     // Levels subdivide their rest lattice where it is needed (section 3.2: a move
@@ -237,7 +238,8 @@ private:
     std::vector<ZeroedArray<std::uint8_t>> written;
     std::vector<Field> disp;               // disp[k] = C^k(delta_l)
     // Small levels: per step k >= 1, the rows of the step's matrix S_k built so far, and
-    // per point of C^k, 1 + its row there (0: not built yet). Empty: a large level.
+    // per point (or slot) of C^k, 1 + its row there (0: not built yet). Empty: a large
+    // level.
     std::vector<SubdivisionRows> rows;
     std::vector<ZeroedArray<std::int32_t>> row_of;
     Eigen::Matrix3Xd rest, delta;
@@ -245,7 +247,8 @@ private:
     std::size_t cut = 0;
     bool moved = false;
     bool stepped = false;  // the Catmull-Clark steps are set up (ensure_subdivided)
-    /// C^k as the lattice reads it (a built complex for k = 0 and for small levels).
+    /// C^k as the lattice reads it (a built complex for k = 0 and for levels of at most
+    /// 64 cells).
     StepGrid step_grid(int k) const {
       return {&sub[0], static_cast<std::size_t>(k) < sub.size() ? &sub[static_cast<std::size_t>(k)] : nullptr, k};
     }
@@ -360,7 +363,7 @@ private:
   Parallelepiped box_;
   OctreeOptions options_;
   mutable std::vector<Level> levels_;
-  struct Inspected {  // subdivided() and subdivided_rest() of a large level
+  struct Inspected {  // subdivided() and subdivided_rest() of a level that built no C^k
     GridComplex complex;
     Eigen::Matrix3Xd rest;
   };

@@ -1,7 +1,7 @@
 // StepGrid: C^k, the k-th Catmull-Clark subdivision of an octree level's grid, as the
 // octree lattice reads it: which cells exist, and where each node's value is kept.
 //
-// Why: a large level's C^k is never built as a GridComplex. Its topology is implied by
+// Why: a level's C^k is not built as a GridComplex. Its topology is implied by
 // the level's (every cell of C^k is a child of a child ... of a level cell, refine()), so
 // building it whole (level 5 of a 38k-vertex bunny: 234k cells, 16 MB of dense indices,
 // 25 ms) would undo the locality of a first move. Instead a node's value has a slot:
@@ -13,8 +13,9 @@
 // level's shape, so fields over the slots are allocated lazily (never-written pages are
 // never touched). A cell of C^k is named by the slot of its first corner.
 //
-// A small level (whose steps are kept as matrices) builds its C^k as GridComplexes; a
-// StepGrid over a built complex reads it instead, so the lattice has one way to read both.
+// A level of at most 64 cells (whose first move needs all of C^k) builds its C^k as
+// GridComplexes; a StepGrid over a built complex reads it instead, so the lattice has one
+// way to read both.
 #pragma once
 
 #include <cstdint>
