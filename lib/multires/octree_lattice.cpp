@@ -199,9 +199,9 @@ void OctreeLattice::ensure_subdivided(int l) const {
   if (level.stepped) return;
   level.stepped = true;
   // A level reads its C^k through StepGrid, which implies C^k from the level's grid; only
-  // a level of at most kBuiltLevelCells builds C^k's topology, which its first move needs
-  // whole (it marks every cell) and the apply over most of the mesh reads faster than
-  // slots (blob39k, levels 0-2: about 1 ms a first move). A small level builds its step
+  // a level of at most kBuiltLevelCells builds C^k's topology, most of which its first
+  // move needs (N_{S,3} spans 6 cells a side) and which the apply over most of the mesh
+  // reads faster than slots (bunny00 and blob39k, levels 0 and 1: 1.4 ms a first move). A small level builds its step
   // matrices row by row where moves reach (update_by_rows, each row summing in the order
   // of its nodes, over slots or points). Every level gets its rest positions cell by cell
   // (ensure_rest), where moves mark cells and locates walk, into fields that no step
