@@ -201,12 +201,13 @@ void OctreeLattice::ensure_subdivided(int l) const {
   // A level reads its C^k through StepGrid, which implies C^k from the level's grid; only
   // a level of at most kBuiltLevelCells builds C^k's topology, most of which its first
   // move needs (N_{S,3} spans 6 cells a side) and which the apply over most of the mesh
-  // reads faster than slots (bunny00 and blob39k, levels 0 and 1: 1.4 ms a first move). A small level builds its step
-  // matrices row by row where moves reach (update_by_rows, each row summing in the order
-  // of its nodes, over slots or points). Every level gets its rest positions cell by cell
-  // (ensure_rest), where moves mark cells and locates walk, into fields that no step
-  // touches until it needs them: the same values as subdividing the whole level, bit for
-  // bit. Building level 3's C^2 (up to 512 cells) took 3 ms of its first move.
+  // reads faster than slots (bunny00 and blob39k, levels 0 and 1: 1.4 ms a first move).
+  // Building level 3's C^2 (up to 512 cells) took 3 ms of its first move. A small level
+  // builds its step matrices row by row where moves reach (update_by_rows, each row
+  // summing in the order of its nodes, over slots or points). Every level gets its rest
+  // positions cell by cell (ensure_rest), where moves mark cells and locates walk, into
+  // fields that no step touches until it needs them: the same values as subdividing the
+  // whole level, bit for bit.
   const bool whole = level.sub[0].num_cells() <= options_.whole_level_cells;
   const bool build = level.sub[0].num_cells() <= kBuiltLevelCells;
   for (int k = 1; k <= options_.cc_steps; ++k) {
@@ -251,7 +252,7 @@ std::size_t OctreeLattice::rest_cells_subdivided(int l) const {
 /// Per step k of `steps`, how many cells of C^k around the pending cells must be exact.
 static std::vector<int> rest_margins(int steps) {
   std::vector<int> margin(static_cast<std::size_t>(steps) + 1, 0);
-  for (int k = steps; k >= 1; --k) margin[static_cast<std::size_t>(k - 1)] = margin[static_cast<std::size_t>(k)] / 2 + 1;
+  for (std::size_t k = static_cast<std::size_t>(steps); k >= 1; --k) margin[k - 1] = margin[k] / 2 + 1;
   return margin;
 }
 
@@ -269,7 +270,8 @@ static int pending_distance(const GridIndex& q, int k, const std::vector<std::ui
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         const GridIndex p{at[0] + dx, at[1] + dy, at[2] + dz};
-        if (std::min({p[0], p[1], p[2]}) < 0 || std::max({p[0], p[1], p[2]}) >= res || ring[dense_cell(p, res)] != 1) continue;
+        const bool inside = std::min({p[0], p[1], p[2]}) >= 0 && std::max({p[0], p[1], p[2]}) < res;
+        if (!inside || ring[dense_cell(p, res)] != 1) continue;
         int d = 0;
         for (int a = 0; a < 3; ++a) d = std::max({d, (p[a] << k) - q[a], q[a] - (((p[a] + 1) << k) - 1)});
         best = std::min(best, d);
