@@ -152,10 +152,6 @@ const Eigen::MatrixXd& OctreeLattice::deformation(int l) const {
   return delta;
 }
 
-/// Levels of at most this many cells (4^3: levels 0-2 of a full octree) build the topology
-/// of their C^k (ensure_subdivided).
-constexpr std::size_t kBuiltLevelCells = 64;
-
 /// The grid cells mark_changed marks for the points `ids` (in the grid, existing or not).
 static std::vector<GridIndex> marked_cells(const GridComplex& g, const std::vector<std::int32_t>& ids) {
   std::vector<GridIndex> out;

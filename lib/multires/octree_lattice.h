@@ -28,11 +28,11 @@
 // and marks the cells of N_{S,3}:
 // changed_points() reports only the vertices there; every other vertex is untouched.
 // Points outside every cell of every moved level are never changed, bit for bit. The rest
-// lattice's subdivisions C^k(R_l) are local too: a level of more than 64 cells builds no
-// C^k topology (StepGrid implies it from the level's grid), and a level's first move
-// subdivides the rest positions only in the cells it marks (and, on demand, where locating
-// a vertex walks), into fields that stay untouched memory elsewhere, so a first move costs
-// about what a later one does.
+// lattice's subdivisions C^k(R_l) are local too: a level of more than kBuiltLevelCells
+// cells builds no C^k topology (StepGrid implies it from the level's grid), and a level's
+// first move subdivides the rest positions only in the cells it marks (and, on demand,
+// where locating a vertex walks), into fields that stay untouched memory elsewhere, so a
+// first move costs about what a later one does.
 //
 // Local subdivision (section 2.2, Figure 3): subdivide() adds a level made of chosen cells
 // of a level split by the octree rules (a SubdividedLevel, of general topology), shown
@@ -187,9 +187,9 @@ public:
               Eigen::Matrix3d* dx_du = nullptr) const;
   /// The k-th Catmull-Clark subdivision of the level's rest lattice (k = 0: the level),
   /// built on first use, and its points' positions (the whole level subdivided). A level
-  /// of more than 64 cells never builds its C^k topology itself (StepGrid): for it these
-  /// are built on the call, for inspection (tests, benchmarks), and kept beside the
-  /// lattice's own data.
+  /// of more than kBuiltLevelCells cells never builds its C^k topology itself (StepGrid):
+  /// for it these are built on the call, for inspection (tests, benchmarks), and kept
+  /// beside the lattice's own data.
   const GridComplex& subdivided(int level, int k) const;
   const Eigen::Matrix3Xd& subdivided_rest(int level, int k) const;
   /// C^k(delta), the k-th subdivision of the grid level's own moves, on the points of
@@ -223,10 +223,13 @@ private:
     Eigen::Map<Eigen::Matrix3Xd> map() { return {values.data(), 3, cols}; }
     Eigen::Map<const Eigen::Matrix3Xd> map() const { return {values.data(), 3, cols}; }
   };
+  /// Levels of at most this many cells (4^3: levels 0-2 of a full octree) build the
+  /// topology of their C^k (ensure_subdivided says why).
+  static constexpr std::size_t kBuiltLevelCells = 64;
   struct Level {
-    // sub[k] = C^k topology; sub[0] the level itself. Only levels of at most 64 cells
-    // build k >= 1: another level's C^k is implied by its grid (StepGrid), and fine[k],
-    // disp[k] and row_of[k - 1] are over its slots.
+    // sub[k] = C^k topology; sub[0] the level itself. Only levels of at most
+    // kBuiltLevelCells cells build k >= 1: another level's C^k is implied by its grid
+    // (StepGrid), and fine[k], disp[k] and row_of[k - 1] are over its slots.
     std::vector<GridComplex> sub;
     std::vector<Eigen::Matrix3Xd> fine;    // fine[k] = C^k(R_l) positions, where `ready` says
     // Levels subdivide their rest lattice where it is needed (section 3.2: a move
@@ -248,7 +251,7 @@ private:
     bool moved = false;
     bool stepped = false;  // the Catmull-Clark steps are set up (ensure_subdivided)
     /// C^k as the lattice reads it (a built complex for k = 0 and for levels of at most
-    /// 64 cells).
+    /// kBuiltLevelCells cells).
     StepGrid step_grid(int k) const {
       return {&sub[0], static_cast<std::size_t>(k) < sub.size() ? &sub[static_cast<std::size_t>(k)] : nullptr, k};
     }

@@ -13,9 +13,9 @@
 // level's shape, so fields over the slots are allocated lazily (never-written pages are
 // never touched). A cell of C^k is named by the slot of its first corner.
 //
-// A level of at most 64 cells (whose first move needs most of C^k) builds its C^k as
-// GridComplexes; a StepGrid over a built complex reads it instead, so the lattice has one
-// way to read both.
+// A level of at most OctreeLattice::kBuiltLevelCells cells (whose first move needs most
+// of C^k) builds its C^k as GridComplexes; a StepGrid over a built complex reads it
+// instead, so the lattice has one way to read both.
 #pragma once
 
 #include <cstdint>
