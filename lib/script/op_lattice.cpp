@@ -186,24 +186,28 @@ nlohmann::json box_json(const Parallelepiped& box) {
 
 /// The points an octree lattice is fitted and cut around: the region's vertices, and with
 /// `enclose` the enclosed deformer's control points (every level's) where the mesh sees them.
+/// The region is written straight into its matrix: a vector of points grown one vertex at a
+/// time reallocated and copied it some 17 times on a 39k-vertex mesh, touching twice its
+/// memory afresh.
 Eigen::Matrix3Xd octree_region(Scene& scene, const BoxSpec& box, const std::optional<std::string>& enclose) {
   const auto positions = scene.mesh.positions();
   std::vector<std::uint32_t> ids;
   if (box.select) ids = select_vertices(*box.select, positions, scene.mesh.volume_source());
-  std::vector<Eigen::Vector3d> points;
-  if (ids.empty())
-    for (Eigen::Index v = 0; v < positions.cols(); ++v) points.push_back(positions.col(v));
-  for (std::uint32_t v : ids) points.push_back(positions.col(v));
+  std::vector<Eigen::Vector3d> carried;  // the enclosed deformer's points, where the mesh sees them
   if (enclose) {
     const std::size_t k = scene.stack.index_of(*enclose);
     const Deformer& enclosed = scene.deformer(*enclose);
     for (int l = 0; l < enclosed.num_levels(); ++l) {
       const Eigen::Matrix3Xd level = enclosed.points(l);
-      for (Eigen::Index p = 0; p < level.cols(); ++p) points.push_back(scene.stack.carry_from(k, level.col(p)));
+      for (Eigen::Index p = 0; p < level.cols(); ++p) carried.push_back(scene.stack.carry_from(k, level.col(p)));
     }
   }
-  Eigen::Matrix3Xd region(3, static_cast<Eigen::Index>(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i) region.col(static_cast<Eigen::Index>(i)) = points[i];
+  // An empty selection (none given, or none selected) is the whole mesh.
+  const Eigen::Index vertices = ids.empty() ? positions.cols() : static_cast<Eigen::Index>(ids.size());
+  Eigen::Matrix3Xd region(3, vertices + static_cast<Eigen::Index>(carried.size()));
+  if (ids.empty()) region.leftCols(vertices) = positions;
+  for (std::size_t i = 0; i < ids.size(); ++i) region.col(static_cast<Eigen::Index>(i)) = positions.col(ids[i]);
+  for (std::size_t i = 0; i < carried.size(); ++i) region.col(vertices + static_cast<Eigen::Index>(i)) = carried[i];
   return region;
 }
 
