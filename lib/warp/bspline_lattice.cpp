@@ -526,7 +526,8 @@ void locate_cells(const CellGrid& grid, const double* pos, Eigen::Index stride, 
   const std::ptrdiff_t n = end - begin;
   std::ptrdiff_t done = 0;
   const double cells = static_cast<double>(grid.cells[0]) * grid.cells[1] * grid.cells[2];
-  const bool int32_cells = cells < 2147483647.0;  // the vector paths convert flat cells to int32
+  // The vector paths convert flat cells to int32 (the portable build has neither path).
+  [[maybe_unused]] const bool int32_cells = cells < 2147483647.0;
 #ifdef __AVX512F__
   if (!id && stride == 3 && int32_cells) done = locate_cells_avx512(grid, pos + 3 * begin, n, out);
 #endif
