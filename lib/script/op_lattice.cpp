@@ -187,8 +187,7 @@ nlohmann::json box_json(const Parallelepiped& box) {
 /// The points an octree lattice is fitted and cut around: the region's vertices, and with
 /// `enclose` the enclosed deformer's control points (every level's) where the mesh sees them.
 /// The region is written straight into its matrix: a vector of points grown one vertex at a
-/// time reallocated and copied it some 17 times on a 39k-vertex mesh, touching twice its
-/// memory afresh.
+/// time was reallocated and copied some 17 times on a 39k-vertex mesh.
 Eigen::Matrix3Xd octree_region(Scene& scene, const BoxSpec& box, const std::optional<std::string>& enclose) {
   const auto positions = scene.mesh.positions();
   std::vector<std::uint32_t> ids;
