@@ -240,8 +240,9 @@ bool OctreeLattice::tagged_local_part(int l, const Eigen::Vector3d& x, Tag& tag,
   if (tag.state == 0) {
     tag.state = local(l).locate(x, where) ? 1 : 2;
     located_.fetch_add(1, std::memory_order_relaxed);
-    tag.u = where.lambda.tail<3>(), tag.cell = where.cell, tag.face = where.face;
+    tag.u = where.lambda.tail<3>(), tag.cell = where.cell;
     tag.step = static_cast<std::int8_t>(where.step), tag.slot = static_cast<std::int8_t>(where.slot);
+    if (tag.state == 1) tag.face = local(l).face_place(where.step, where.cell, where.face);
   }
   if (tag.state != 1) return false;
   exact_part(l, tag, jacobian);
@@ -280,7 +281,7 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
 [[gnu::always_inline]] inline Eigen::Vector3d OctreeLattice::part_at(int l, const Tag& tag, Eigen::Matrix3d* jacobian) const {
   if (!is_local(l)) return displacement(l, Location{tag.step, tag.cell, tag.u}, jacobian);
   const Eigen::Vector4d lambda(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2]);
-  return local(l).displacement({tag.step, tag.cell, tag.face, tag.slot, lambda}, jacobian);
+  return local(l).displacement({tag.step, tag.cell, local(l).face_at(tag.step, tag.cell, tag.face), tag.slot, lambda}, jacobian);
 }
 
 [[gnu::always_inline]] inline void OctreeLattice::exact_part(int l, Tag& tag, Eigen::Matrix3d* jacobian) const {

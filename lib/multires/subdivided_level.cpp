@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
 
+#include "common/errors.h"
 #include "multires/volume_subdivision.h"
 
 namespace ffd {
@@ -128,6 +130,22 @@ bool SubdividedLevel::locate(const Eigen::Vector3d& x, Tet& where) const {
     }
   }
   return false;
+}
+
+std::uint8_t SubdividedLevel::face_place(int k, std::int32_t c, std::int32_t f) const {
+  const CellComplex& g = sub_[static_cast<std::size_t>(k)];
+  const auto begin = g.cell_faces.begin() + g.cell_offsets[static_cast<std::size_t>(c)];
+  const auto end = g.cell_faces.begin() + g.cell_offsets[static_cast<std::size_t>(c) + 1];
+  const auto place = std::find(begin, end, f) - begin;
+  // A cell of a subdivided octree level has at most 24 faces (six, each split in four).
+  if (place >= end - begin || place > 255)
+    throw Error("octree: face " + std::to_string(f) + " is not among the first 256 of cell " + std::to_string(c));
+  return static_cast<std::uint8_t>(place);
+}
+
+std::int32_t SubdividedLevel::face_at(int k, std::int32_t c, std::uint8_t place) const {
+  const CellComplex& g = sub_[static_cast<std::size_t>(k)];
+  return g.cell_faces[static_cast<std::size_t>(g.cell_offsets[static_cast<std::size_t>(c)] + place)];
 }
 
 void SubdividedLevel::tet_weights(const Tet& w, std::vector<std::pair<std::int32_t, double>>& out) const {

@@ -52,6 +52,10 @@ public:
   };
   /// The tetrahedron of the finest C^k (the minimal cell) that holds x; false when none does.
   bool locate(const Eigen::Vector3d& x, Location& where) const;
+  /// Where face f is among the faces of cell c of C^k, and the face at that place: a byte
+  /// where a location is kept for every vertex (the octree lattice's tags).
+  std::uint8_t face_place(int k, std::int32_t c, std::int32_t f) const;
+  std::int32_t face_at(int k, std::int32_t c, std::uint8_t place) const;
   /// This level's F(x) - x at `where`, and its part of dF/dx - I when asked.
   Eigen::Vector3d displacement(const Location& where, Eigen::Matrix3d* jacobian) const;
 
