@@ -281,7 +281,8 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
 [[gnu::always_inline]] inline Eigen::Vector3d OctreeLattice::part_at(int l, const Tag& tag, Eigen::Matrix3d* jacobian) const {
   if (!is_local(l)) return displacement(l, Location{tag.step, tag.cell, tag.u}, jacobian);
   const Eigen::Vector4d lambda(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2]);
-  return local(l).displacement({tag.step, tag.cell, local(l).face_at(tag.step, tag.cell, tag.face), tag.slot, lambda}, jacobian);
+  const std::int32_t face = local(l).face_at(tag.step, tag.cell, tag.face);
+  return local(l).displacement({tag.step, tag.cell, face, tag.slot, lambda}, jacobian);
 }
 
 [[gnu::always_inline]] inline void OctreeLattice::exact_part(int l, Tag& tag, Eigen::Matrix3d* jacobian) const {

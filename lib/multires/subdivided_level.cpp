@@ -139,7 +139,7 @@ std::uint8_t SubdividedLevel::face_place(int k, std::int32_t c, std::int32_t f) 
   const auto place = std::find(begin, end, f) - begin;
   // A cell of a subdivided octree level has at most 24 faces (six, each split in four).
   if (place >= end - begin || place > 255)
-    throw Error("octree: face " + std::to_string(f) + " is not among the first 256 of cell " + std::to_string(c));
+    throw Error("octree: face " + std::to_string(f) + " is not among the first 256 faces of cell " + std::to_string(c));
   return static_cast<std::uint8_t>(place);
 }
 
