@@ -37,6 +37,11 @@ SubdividedLevel::SubdividedLevel(const Parallelepiped& box, int source_level, co
     cell_centroids_.emplace_back(3, static_cast<Eigen::Index>(g.num_cells()));
     face_centroids_.emplace_back(3, static_cast<Eigen::Index>(g.num_faces()));
     for (std::size_t c = 0; c < g.num_cells(); ++c) {
+      // face_place() keeps a face's place among its cell's faces in a byte; a cell here has
+      // at most 24 (six, each split in four), so this is a check of the complex, made
+      // here rather than in the apply's parallel loop.
+      if (g.cell_offsets[c + 1] - g.cell_offsets[c] > 256)
+        throw Error("octree: cell " + std::to_string(c) + " of a subdivided level has more than 256 faces");
       cell_points_[k].push_back(g.cell_points(c));
       Eigen::Vector3d C = Eigen::Vector3d::Zero();
       for (std::int32_t p : cell_points_[k][c]) C += fine_[k].col(p);
@@ -136,11 +141,9 @@ std::uint8_t SubdividedLevel::face_place(int k, std::int32_t c, std::int32_t f) 
   const CellComplex& g = sub_[static_cast<std::size_t>(k)];
   const auto begin = g.cell_faces.begin() + g.cell_offsets[static_cast<std::size_t>(c)];
   const auto end = g.cell_faces.begin() + g.cell_offsets[static_cast<std::size_t>(c) + 1];
-  const auto place = std::find(begin, end, f) - begin;
-  // A cell of a subdivided octree level has at most 24 faces (six, each split in four).
-  if (place >= end - begin || place > 255)
-    throw Error("octree: face " + std::to_string(f) + " is not among the first 256 faces of cell " + std::to_string(c));
-  return static_cast<std::uint8_t>(place);
+  // f is one of c's faces (locate() found it there), and c has at most 256 (checked when
+  // the level was built).
+  return static_cast<std::uint8_t>(std::find(begin, end, f) - begin);
 }
 
 std::int32_t SubdividedLevel::face_at(int k, std::int32_t c, std::uint8_t place) const {
