@@ -2,9 +2,9 @@
 #include "multires/octree_lattice.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
-#include <cmath>
 #include <stdexcept>
 
 #include "multires/volume_subdivision.h"

@@ -240,9 +240,9 @@ private:
     std::unique_ptr<std::atomic<std::uint8_t>[]> ready;
     std::vector<ZeroedArray<std::uint8_t>> written;
     std::vector<Field> disp;               // disp[k] = C^k(delta_l)
-    // Small levels: per step k >= 1, the rows of the step's matrix S_k built so far, and
-    // per point (or slot) of C^k, 1 + its row there (0: not built yet). Empty: a large
-    // level.
+    // Levels of at most options_.whole_level_cells cells, which move by their steps'
+    // matrices: per step k >= 1, the rows of S_k built so far, and per point (or slot) of
+    // C^k, 1 + its row there (0: not built yet). Empty: a level that moves by N_{S,3}.
     std::vector<SubdivisionRows> rows;
     std::vector<ZeroedArray<std::int32_t>> row_of;
     Eigen::Matrix3Xd rest, delta;
