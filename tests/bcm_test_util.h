@@ -57,7 +57,7 @@ inline Pose random_pose(std::mt19937& rng, const Eigen::Vector3d& center, double
 /// whole mesh (cotangent Laplacian of `setup`, 3 × n), every other vertex at `target`
 /// (3 × n), solved by a sparse LU. Returns 3 × free.size(). In bcm_test_util.cpp, compiled
 /// once: defined here, its sparse products and SparseLU were instantiated in every unity
-/// batch holding a file that includes this header (three of each build's).
+/// batch holding a file that includes this header (three batches in each build).
 Eigen::Matrix3Xd direct_kharmonic(const Mesh& mesh, const Eigen::Matrix3Xd& setup, const std::vector<std::uint32_t>& free,
                                   const Eigen::Matrix3Xd& target, int k, bool uniform = false);
 
