@@ -117,6 +117,35 @@ TEST(HugePages, AdviceKeepsEveryByteAndFreshMemoryGetsHugePages) {
   munmap(fresh, size);
 }
 
+struct alignas(64) Line {
+  double values[8];
+};
+
+TEST(HugePages, AVectorKeepsItsValuesAsItGrowsAndItsLargeBlocksGetHugePages) {
+  // Grown one value at a time past 1 MiB and on to 5 MiB (blocks of operator new, then
+  // mappings), the vector keeps every value and its alignment.
+  std::vector<Line, HugePageAllocator<Line>> lines;
+  const std::size_t n = (std::size_t{5} << 20) / sizeof(Line) + 3;
+  for (std::size_t i = 0; i < n; ++i) {
+    lines.push_back(Line{{static_cast<double>(i), 0, 0, 0, 0, 0, 0, -static_cast<double>(i)}});
+    ASSERT_EQ(reinterpret_cast<std::uintptr_t>(lines.data()) % alignof(Line), 0u) << i;
+  }
+  std::size_t wrong = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    wrong += lines[i].values[0] != static_cast<double>(i) || lines[i].values[7] != -static_cast<double>(i);
+  EXPECT_EQ(wrong, 0u);
+  std::vector<Line, HugePageAllocator<Line>> copy = lines;  // and copies as any vector
+  EXPECT_EQ(copy[n - 1].values[7], -static_cast<double>(n - 1));
+#ifndef FFD_SANITIZE
+  // A large block starts on a 2 MiB boundary and is written in huge pages (where the
+  // kernel gives them on advice); the sanitizers' build keeps operator new's blocks.
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(lines.data()) % (std::uintptr_t{2} << 20), 0u);
+  if (huge_pages_on_advice()) {
+    EXPECT_GE(huge_kb_at(lines.data()), 2048) << "no huge page in the vector's block";
+  }
+#endif
+}
+
 TEST(ZeroedArray, StartsAsZerosSmallAndLarge) {
   for (std::size_t n : {std::size_t{10}, std::size_t{1} << 20}) {
     ZeroedArray<double> a(n);

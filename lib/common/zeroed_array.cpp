@@ -97,6 +97,52 @@ void advise_huge_pages(const void* p, std::size_t bytes) {
 #endif
 }
 
+// Not in the sanitizers' build: ASan checks the bounds of operator new's blocks, not of
+// mappings.
+#if defined(__linux__) && defined(MADV_HUGEPAGE) && !defined(FFD_SANITIZE)
+#define FFD_HUGE_PAGE_ARRAYS 1
+namespace {
+
+constexpr std::size_t kHugePage = std::size_t{2} << 20;
+// From here on an array gets whole huge pages: 2 MiB for 1 MiB or more of 4 KiB pages
+// (256 faults at 6-10 us each on a 2-core virtual machine, against one).
+constexpr std::size_t kHugeFrom = kHugePage / 2;
+
+std::size_t huge_extent(std::size_t bytes) { return (bytes + kHugePage - 1) & ~(kHugePage - 1); }
+
+}  // namespace
+#endif
+
+void* allocate_huge_pages(std::size_t bytes, std::size_t alignment) {
+#ifdef FFD_HUGE_PAGE_ARRAYS
+  if (bytes >= kHugeFrom) {
+    // Map 2 MiB more than the extent, keep the aligned extent, give back the rest.
+    const std::size_t extent = huge_extent(bytes);
+    void* raw = ::mmap(nullptr, extent + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (raw == MAP_FAILED) throw std::bad_alloc();
+    const auto first = reinterpret_cast<std::uintptr_t>(raw);
+    const std::uintptr_t aligned = (first + kHugePage - 1) & ~(kHugePage - 1);
+    if (aligned > first) ::munmap(raw, aligned - first);
+    if (const std::uintptr_t end = first + extent + kHugePage; end > aligned + extent)
+      ::munmap(reinterpret_cast<void*>(aligned + extent), end - aligned - extent);
+    ::madvise(reinterpret_cast<void*>(aligned), extent, MADV_HUGEPAGE);  // advice: failing it changes nothing
+    return reinterpret_cast<void*>(aligned);
+  }
+#endif
+  return ::operator new(bytes, std::align_val_t(alignment));
+}
+
+void free_huge_pages(void* p, std::size_t bytes, std::size_t alignment) noexcept {
+  if (!p) return;
+#ifdef FFD_HUGE_PAGE_ARRAYS
+  if (bytes >= kHugeFrom) {
+    ::munmap(p, huge_extent(bytes));
+    return;
+  }
+#endif
+  ::operator delete(p, std::align_val_t(alignment));
+}
+
 void free_zeroed(void* p, std::size_t bytes) noexcept {
   if (!p) return;
 #if defined(__linux__)

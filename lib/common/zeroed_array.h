@@ -46,6 +46,30 @@ void prefault(void* p, std::size_t bytes);
 /// where the kernel does without transparent huge pages, or where the advice is refused.
 void advise_huge_pages(const void* p, std::size_t bytes);
 
+/// `bytes` of fresh memory aligned to 2 MiB, in transparent huge pages where the kernel
+/// gives them (MADV_HUGEPAGE), for arrays of 1 MiB or more that are written from their
+/// start: the 2 MiB page that holds the end is faulted in whole. Smaller arrays, and all
+/// of them in the sanitizers' build (whose ASan checks the bounds of operator new's blocks
+/// only), come from operator new. Free with free_huge_pages, with the same `bytes`.
+void* allocate_huge_pages(std::size_t bytes, std::size_t alignment);
+void free_huge_pages(void* p, std::size_t bytes, std::size_t alignment) noexcept;
+
+/// A std::vector allocator of allocate_huge_pages's memory: a large vector whose every
+/// growth is written whole (an octree level's tags) faults its pages in 2 MiB at a time.
+template <class T>
+struct HugePageAllocator {
+  using value_type = T;
+  HugePageAllocator() = default;
+  template <class U>
+  HugePageAllocator(const HugePageAllocator<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(allocate_huge_pages(n * sizeof(T), alignof(T))); }
+  void deallocate(T* p, std::size_t n) noexcept { free_huge_pages(p, n * sizeof(T), alignof(T)); }
+  template <class U>
+  bool operator==(const HugePageAllocator<U>&) const { return true; }
+  template <class U>
+  bool operator!=(const HugePageAllocator<U>&) const { return false; }
+};
+
 /// advise_huge_pages over a vector's reserved room, all of its capacity.
 template <class Vector>
 void advise_huge_pages_reserved(const Vector& v) {

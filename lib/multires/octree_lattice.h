@@ -409,7 +409,7 @@ private:
   // few vertices of its marked cells, not every vertex.
   mutable Eigen::Matrix3Xd cache_key_;
   mutable std::vector<std::vector<std::uint32_t>> tag_index_;
-  mutable std::vector<std::vector<Tag>> cache_;
+  mutable std::vector<std::vector<Tag, HugePageAllocator<Tag>>> cache_;
   // The tags' Jacobian parts, by the same index, for the applies that carry normals: an
   // apply without normals needs only the parts' bounds, and its tags are half the size.
   mutable std::vector<std::vector<Eigen::Matrix3d>> jacobians_;

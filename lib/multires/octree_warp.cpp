@@ -361,7 +361,7 @@ std::vector<std::size_t> OctreeLattice::assign_tags(const Eigen::Ref<const Eigen
                                                     const std::vector<std::uint32_t>& ids, bool with_jacobians) const {
   std::vector<std::size_t> first_new(static_cast<std::size_t>(num_levels()));
   for (int l = 0; l < num_levels(); ++l) {
-    std::vector<Tag>& tags = cache_[static_cast<std::size_t>(l)];
+    auto& tags = cache_[static_cast<std::size_t>(l)];
     first_new[static_cast<std::size_t>(l)] = tags.size();
     if (!moved(l)) continue;
     std::vector<std::uint32_t>& index = tag_index_[static_cast<std::size_t>(l)];
