@@ -19,6 +19,8 @@ namespace {
 // From here on an array is mapped: a few pages, where a mapping's cost (a system call,
 // and a page per array at least) no longer matters beside what it saves.
 constexpr std::size_t kMapped = std::size_t{64} << 10;
+// A transparent huge page.
+constexpr std::size_t kHugePage = std::size_t{2} << 20;
 
 }  // namespace
 
@@ -87,7 +89,7 @@ void prefault(void* p, std::size_t bytes) {
 
 void advise_huge_pages(const void* p, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+  constexpr std::uintptr_t kHuge = kHugePage;
   if (bytes < 2 * kHuge) return;
   const auto first = (reinterpret_cast<std::uintptr_t>(p) + kHuge - 1) & ~(kHuge - 1);
   const auto last = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(kHuge - 1);
@@ -103,7 +105,6 @@ void advise_huge_pages(const void* p, std::size_t bytes) {
 #define FFD_HUGE_PAGE_ARRAYS 1
 namespace {
 
-constexpr std::size_t kHugePage = std::size_t{2} << 20;
 // From here on an array gets whole huge pages: 2 MiB for 1 MiB or more of 4 KiB pages
 // (256 faults at 6-10 us each on a 2-core virtual machine, against one).
 constexpr std::size_t kHugeFrom = kHugePage / 2;
