@@ -4,7 +4,7 @@
 # that failed. COST is the suite's number of tests, so that with no timing history (a
 # fresh machine: CI) ctest starts the larger suites first.
 # Set by the file that includes this one: FFD_GTEST_EXECUTABLE, FFD_GTEST_WORKING_DIRECTORY,
-# FFD_GTEST_TIMEOUT.
+# FFD_GTEST_TIMEOUT, FFD_GTEST_ENVIRONMENT (each suite's process's environment).
 execute_process(COMMAND "${FFD_GTEST_EXECUTABLE}" --gtest_list_tests
                 WORKING_DIRECTORY "${FFD_GTEST_WORKING_DIRECTORY}"
                 OUTPUT_VARIABLE listing ERROR_VARIABLE listing_errors RESULT_VARIABLE listing_status
@@ -35,5 +35,6 @@ endforeach()
 foreach(suite IN LISTS suites)
   add_test("${suite}" "${FFD_GTEST_EXECUTABLE}" "--gtest_filter=${suite}.*")
   set_tests_properties("${suite}" PROPERTIES WORKING_DIRECTORY "${FFD_GTEST_WORKING_DIRECTORY}"
-                       TIMEOUT "${FFD_GTEST_TIMEOUT}" COST "${count_${suite}}")
+                       TIMEOUT "${FFD_GTEST_TIMEOUT}" COST "${count_${suite}}"
+                       ENVIRONMENT "${FFD_GTEST_ENVIRONMENT}")
 endforeach()
