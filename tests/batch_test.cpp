@@ -39,18 +39,15 @@ const char* kScript = R"({"version": 1, "steps": [
   {"op": "save", "path": "mid/stretched.obj"},
   {"op": "move", "lattice": "b", "points": [{"index": [2, 2, 2], "by": [0.1, 0, 0]}]}]})";
 
-const char* kCgalData = "/usr/share/doc/libcgal-dev/data.tar.gz";
-
 // A folder of real meshes in the four formats, plus one broken file (`broken` true).
 std::string mesh_folder(const std::string& name, bool broken) {
   const std::string dir = temp_folder(name);
   const std::string in = dir + "/in";
   fs::create_directories(in);
-  EXPECT_TRUE(fs::exists(kCgalData)) << kCgalData << " is missing: scripts/setup.sh installs libcgal-demo";
-  const std::string members = "data/meshes/pig.stl data/meshes/sphere.ply data/meshes/cube.off "
-                              "data/meshes/octahedron.off data/meshes/elephant.off data/meshes/b9.ply";
-  EXPECT_EQ(std::system(("tar -xzf " + std::string(kCgalData) + " -C " + quoted(dir) + " " + members).c_str()), 0);
-  for (const auto& entry : fs::directory_iterator(dir + "/data/meshes")) fs::copy(entry.path(), in);
+  const std::string cgal = test::cgal_meshes();
+  EXPECT_FALSE(cgal.empty()) << "CGAL's data set is missing: scripts/setup.sh installs libcgal-demo";
+  for (const char* name : {"pig.stl", "sphere.ply", "cube.off", "octahedron.off", "elephant.off", "b9.ply"})
+    fs::copy(cgal + "/" + name, in);
   fs::copy(data("bunny.obj"), in);
   fs::copy(data("grid.obj"), in);
   if (broken) write_file(in + "/broken.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");

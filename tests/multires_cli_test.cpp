@@ -408,11 +408,8 @@ TEST(MultiresCli, FiveLevelsOnOtherMeshesCutCells) {
 // CGAL's elephant (libcgal-demo, installed by scripts/setup.sh, so this runs on CI too):
 // local subdivision of a level through the CLI, the new level moved, its net saved.
 TEST(MultiresCli, LocalSubdivisionOfCgalsElephant) {
-  const std::string tarball = "/usr/share/doc/libcgal-dev/data.tar.gz";
-  if (!fs::exists(tarball)) GTEST_SKIP() << "libcgal-demo is not installed";
-  const std::string data = temp_folder("multires_cgal");
-  ASSERT_EQ(std::system(("tar -xzf " + tarball + " -C " + quoted(data) + " data/meshes/elephant.off").c_str()), 0);
-  const std::string mesh = data + "/data/meshes/elephant.off";
+  const std::string mesh = test::cgal_mesh("elephant.off");
+  if (mesh.empty()) GTEST_SKIP() << "libcgal-demo is not installed";
   const Mesh input = read_mesh(mesh);
   const std::string lattice =
       R"({"op": "lattice", "name": "auto", "basis": "octree", "box": {"fit": "obb", "padding": 0.02}, "levels": 3})";

@@ -195,19 +195,10 @@ TEST(PlyReader, BinaryInBothEndiannessesEqualsAscii) {
 // ---------------------------------------------------------------------------------------
 // CGAL's readers as the oracle on real files.
 
-// CGAL's data set (Debian's libcgal-demo) extracted once, or "" when it is not installed.
+// CGAL's data set (Debian's libcgal-demo), or "" when it is not installed.
 std::string cgal_meshes() {
-  static const std::string dir = [] {
-    const std::string tarball = "/usr/share/doc/libcgal-dev/data.tar.gz";
-    if (!std::filesystem::exists(tarball)) return std::string();
-    const std::string out = test::temp_folder("cgal_data");
-    const std::string cmd = "tar -xzf " + tarball + " -C " + test::quoted(out) +
-                            " data/meshes/b9.ply data/meshes/sphere.ply data/meshes/colored_tetra.ply"
-                            " data/meshes/pig.stl data/meshes/sphere.stl";
-    if (std::system(cmd.c_str()) != 0) return std::string();
-    return out + "/data/meshes/";
-  }();
-  return dir;
+  const std::string dir = test::cgal_meshes();
+  return dir.empty() ? dir : dir + "/";
 }
 
 void expect_ply_as_cgal_reads_it(const std::string& path) {

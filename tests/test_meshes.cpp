@@ -256,15 +256,11 @@ void expect_one_error_line(const std::string& err, const std::vector<std::string
     EXPECT_NE(err.find(part), std::string::npos) << "stderr does not mention '" << part << "': " << err;
 }
 
+std::string cgal_meshes() { return fs::is_directory(FFD_CGAL_MESHES) ? std::string(FFD_CGAL_MESHES) : std::string(); }
+
 std::string cgal_mesh(const std::string& name) {
-  const std::string tarball = "/usr/share/doc/libcgal-dev/data.tar.gz";
-  if (!fs::exists(tarball)) return {};
-  static const std::string dir = temp_folder("cgal_meshes");
-  const std::string out = dir + "/data/meshes/" + name;
-  if (!fs::exists(out) &&
-      std::system(("tar -xzf " + tarball + " -C " + quoted(dir) + " data/meshes/" + name).c_str()) != 0)
-    return {};
-  return fs::exists(out) ? out : std::string();
+  const std::string path = std::string(FFD_CGAL_MESHES) + "/" + name;
+  return fs::exists(path) ? path : std::string();
 }
 
 std::string script(const std::vector<std::string>& steps) {

@@ -78,8 +78,12 @@ std::vector<std::size_t> all_ids(std::size_t n);
 void control_points(const Mesh& mesh, int stride, unsigned seed, std::vector<Eigen::Vector3d>& X,
                     std::vector<Eigen::Vector3d>& Y, double& diag);
 
-/// A mesh of CGAL's data set (Debian's libcgal-demo, which scripts/setup.sh installs), by
-/// its name in data/meshes/ ("elephant.off"), extracted once; "" when it is not there.
+/// The folder of CGAL's meshes (data/meshes/ of Debian's libcgal-demo, which
+/// scripts/setup.sh installs), extracted once by the build (tests/CMakeLists.txt); ""
+/// when it is not there.
+std::string cgal_meshes();
+
+/// A mesh of that folder by name ("elephant.off"); "" when it is not there.
 std::string cgal_mesh(const std::string& name);
 
 /// Whether the XML file at `xml_path` is a JUnit report as CI systems read it: xmllint

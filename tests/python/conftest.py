@@ -29,10 +29,14 @@ def bunny(data):
 
 @pytest.fixture(scope="session")
 def cgal_mesh(tmp_path_factory):
-    """A mesh of CGAL's data (libcgal-demo's tarball) by name, extracted once."""
+    """A mesh of CGAL's data (libcgal-demo's tarball) by name: from the folder the build
+    extracted (FFD_CGAL_MESHES, set by ctest), else extracted here."""
     folder = tmp_path_factory.mktemp("cgal")
 
     def extract(name):
+        extracted = os.path.join(os.environ.get("FFD_CGAL_MESHES", ""), name)
+        if os.environ.get("FFD_CGAL_MESHES") and os.path.exists(extracted):
+            return extracted
         if not os.path.exists(CGAL_DATA):
             pytest.skip("CGAL's data is not installed (scripts/setup.sh installs libcgal-dev)")
         with tarfile.open(CGAL_DATA) as tar:
