@@ -381,11 +381,9 @@ void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions, int threads
   {
     // With detail, the moved base goes straight into the detail's own copy of it.
     Eigen::Matrix3Xd& base = data.detail.base_in_slots();
-    if (detail)
-      evaluate_basis(data, data.slot_constant, data.slot_basis, [&](long s, const Eigen::Vector3d& x) { base.col(s) = x; });
-    else
-      evaluate_basis(data, data.constant, data.basis, [&](long i, const Eigen::Vector3d& x) { positions.col(free[i]) = x; });
-#pragma omp single
+    // The handles first, by one thread without a barrier: they write other columns than
+    // the basis below, whose loop ends with the barrier that both need before the detail.
+#pragma omp single nowait
     for (std::size_t h = 0; h < data.frame.size(); ++h) {
       const std::vector<std::uint32_t>& ids = data.regions.handles[h];
       const Eigen::Matrix3d& a = data.linear[h];
@@ -397,6 +395,10 @@ void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions, int threads
         if (slot != UINT32_MAX) base.col(slot) = x;
       }
     }
+    if (detail)
+      evaluate_basis(data, data.slot_constant, data.slot_basis, [&](long s, const Eigen::Vector3d& x) { base.col(s) = x; });
+    else
+      evaluate_basis(data, data.constant, data.basis, [&](long i, const Eigen::Vector3d& x) { positions.col(free[i]) = x; });
     // Section 4: the detail rides on the moved base.
     if (detail) data.detail.reconstruct_in_team(positions, data.regions.free);
   }

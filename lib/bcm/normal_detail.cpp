@@ -196,7 +196,9 @@ void NormalDetail::reconstruct_in_team(Eigen::Ref<Eigen::Matrix3Xd> out, const s
         results_.col(s) = x;
       }
     }
-#pragma omp for schedule(static)
+    // No barrier after the last pass: the caller's team ends right after (the end of its
+    // parallel region waits for every thread).
+#pragma omp for schedule(static) nowait
     for (long i = 0; i < count; ++i) out.col(columns[static_cast<std::size_t>(i)]) = results_.col(slot_of_[static_cast<std::size_t>(i)]);
   }
 }

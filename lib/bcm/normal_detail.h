@@ -48,7 +48,8 @@ public:
   /// Vertex v's column in base_in_slots(), or UINT32_MAX where the detail does not read it.
   std::uint32_t slot(std::uint32_t v) const { return v < slot_of_.size() ? slot_of_[v] : UINT32_MAX; }
   /// reconstruct() from base_in_slots(), called by every thread of an enclosing OpenMP team
-  /// (they share the work).
+  /// (they share the work). Its last pass ends without a barrier: `out` is complete at the
+  /// team's next barrier or the end of its parallel region.
   void reconstruct_in_team(Eigen::Ref<Eigen::Matrix3Xd> out, const std::vector<std::uint32_t>& columns) const;
 
   /// The stored coefficients (α normal, β tangent, γ bitangent), 3 × size(), by vertex.
