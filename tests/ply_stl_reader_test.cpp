@@ -195,12 +195,6 @@ TEST(PlyReader, BinaryInBothEndiannessesEqualsAscii) {
 // ---------------------------------------------------------------------------------------
 // CGAL's readers as the oracle on real files.
 
-// CGAL's data set (Debian's libcgal-demo), or "" when it is not installed.
-std::string cgal_meshes() {
-  const std::string dir = test::cgal_meshes();
-  return dir.empty() ? dir : dir + "/";
-}
-
 void expect_ply_as_cgal_reads_it(const std::string& path) {
   SCOPED_TRACE(path);
   std::ifstream is(path, std::ios::binary);
@@ -243,11 +237,10 @@ void expect_stl_as_cgal_reads_it(const std::string& path) {
 }
 
 TEST(PlyReader, AgreesWithCgalOnRealFiles) {
-  const std::string dir = cgal_meshes();
-  if (dir.empty()) GTEST_SKIP() << "CGAL's data set (libcgal-demo) is not installed";
-  for (const char* name : {"b9.ply", "sphere.ply", "colored_tetra.ply"}) expect_ply_as_cgal_reads_it(dir + name);
+  if (test::cgal_meshes().empty()) GTEST_SKIP() << "CGAL's data set (libcgal-demo) is not installed";
+  for (const char* name : {"b9.ply", "sphere.ply", "colored_tetra.ply"}) expect_ply_as_cgal_reads_it(test::cgal_mesh(name));
   // colored_tetra.ply also has normals and an edge element, which is skipped.
-  const PolygonSoup tetra = read_ply(test::read_file(dir + "colored_tetra.ply"), "colored_tetra.ply");
+  const PolygonSoup tetra = read_ply(test::read_file(test::cgal_mesh("colored_tetra.ply")), "colored_tetra.ply");
   EXPECT_EQ(tetra.normals.size(), 4u);
   EXPECT_EQ(tetra.colors.size(), 4u);
 }
@@ -263,9 +256,9 @@ TEST(PlyReader, AgreesWithCgalOnOurOwnOutput) {
 }
 
 TEST(StlReader, AgreesWithCgalOnRealFilesAndOurOwnOutput) {
-  const std::string dir = cgal_meshes();
-  if (!dir.empty())
-    for (const char* name : {"pig.stl", "sphere.stl"}) expect_stl_as_cgal_reads_it(dir + name);
+  const bool cgal = !test::cgal_meshes().empty();
+  if (cgal)
+    for (const char* name : {"pig.stl", "sphere.stl"}) expect_stl_as_cgal_reads_it(test::cgal_mesh(name));
   const std::string out = test::temp_folder("stl_oracle");
   write_mesh(out + "/bunny.stl", test::bunny());
   expect_stl_as_cgal_reads_it(out + "/bunny.stl");
@@ -273,7 +266,7 @@ TEST(StlReader, AgreesWithCgalOnRealFilesAndOurOwnOutput) {
   expect_stl_as_cgal_reads_it(out + "/binary.stl");
   test::write_file(out + "/ascii.stl", tetra_ascii_stl());
   expect_stl_as_cgal_reads_it(out + "/ascii.stl");
-  if (dir.empty()) GTEST_SKIP() << "CGAL's data set (libcgal-demo) is not installed";
+  if (!cgal) GTEST_SKIP() << "CGAL's data set (libcgal-demo) is not installed";
 }
 
 TEST(StlReader, MergesEqualCornersAndReadsTheSolidTrapAsBinary) {

@@ -34,9 +34,9 @@ def cgal_mesh(tmp_path_factory):
     folder = tmp_path_factory.mktemp("cgal")
 
     def extract(name):
-        extracted = os.path.join(os.environ.get("FFD_CGAL_MESHES", ""), name)
-        if os.environ.get("FFD_CGAL_MESHES") and os.path.exists(extracted):
-            return extracted
+        built = os.environ.get("FFD_CGAL_MESHES")
+        if built and os.path.exists(os.path.join(built, name)):
+            return os.path.join(built, name)
         if not os.path.exists(CGAL_DATA):
             pytest.skip("CGAL's data is not installed (scripts/setup.sh installs libcgal-dev)")
         with tarfile.open(CGAL_DATA) as tar:
