@@ -19,6 +19,10 @@ Rules:
   long-function     no function body longer than MAX_FUNCTION_LINES lines in lib/, apps/ and python/,
                     counted from its "{" line to its "}" line; lambdas and initializers
                     inside a function count toward it.
+  contract-pch      in a CMakeLists.txt, a set_source_files_properties() that compiles
+                    files with -ffp-contract=off also sets SKIP_PRECOMPILE_HEADERS ON: GCC
+                    takes the optimization options a precompiled header was built with
+                    over the file's own, so the option would silently do nothing.
 
 The reader is a small brace matcher over the source with comments, string and character
 literals and preprocessor lines blanked out. At namespace or class scope a "{" opens a
@@ -343,6 +347,26 @@ def check_functions(rel, code, used):
         yield f"{rel}:{start}: function {name} is {count} lines (at most {MAX_FUNCTION_LINES})"
 
 
+def check_contract_pch(root):
+    """contract-pch: set_source_files_properties(... -ffp-contract=off ...) without
+    SKIP_PRECOMPILE_HEADERS ON, in the CMakeLists.txt files of the scanned folders."""
+    for top in SCAN_DIRS + ("tests",):
+        for folder, dirs, files in os.walk(os.path.join(root, top)):
+            dirs.sort()
+            if "CMakeLists.txt" not in files:
+                continue
+            full = os.path.join(folder, "CMakeLists.txt")
+            rel = os.path.relpath(full, root).replace(os.sep, "/")
+            with open(full, encoding="utf-8") as f:
+                text = f.read()
+            for call in re.finditer(r"set_source_files_properties\s*\(([^)]*)\)", text):
+                body = call.group(1)
+                if "-ffp-contract=off" in body and not re.search(r"SKIP_PRECOMPILE_HEADERS\s+ON", body):
+                    line = text.count("\n", 0, call.start()) + 1
+                    yield (f"{rel}:{line}: -ffp-contract=off without SKIP_PRECOMPILE_HEADERS ON "
+                           "(the precompiled header's -ffp-contract=fast would win)")
+
+
 def lint(root):
     """(violations, notes) for the tree at `root`; notes name allowlist entries that
     match nothing any more."""
@@ -357,6 +381,7 @@ def lint(root):
             violations += check_pointers(rel, literals, used)
         if under(rel, FUNCTION_DIRS):
             violations += check_functions(rel, code, used)
+    violations += check_contract_pch(root)
     stale = [k for k in list(LONG_FUNCTION_ALLOWLIST) + list(JSON_POINTER_ALLOWLIST) if k not in used]
     return violations, [f"note: allowlist entry '{k}' matches nothing; remove it" for k in stale]
 
