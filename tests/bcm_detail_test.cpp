@@ -11,6 +11,7 @@
 #include <cmath>
 #include <random>
 
+#include "bcm/detail_rows.h"
 #include "bcm/normal_detail.h"
 #include "bcm_test_util.h"
 #include "test_meshes.h"
@@ -148,6 +149,43 @@ TEST(NormalDetail, TheResultDoesNotDependOnTheThreadCount) {
   detail.reconstruct(c.moved, many, c.columns);
   omp_set_num_threads(threads);
   EXPECT_EQ(one, many);
+}
+
+// The rows' arithmetic is the one detail_rows.h writes out, bit for bit: β t fused into
+// α n, then γ b added (rows x, y) or fused (row z); a flagged slot's coefficient as it is.
+// The products kept apart go through volatile, so that no compiler fuses them here. The
+// plain form (no fusion at all) differs from it on these numbers, so the test can fail.
+TEST(DetailRows, FuseWhereWrittenOutAndNowhereElse) {
+  constexpr int kLength = kDetailRowLength;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> value(-1, 1);
+  std::vector<double> data(12 * kLength);
+  for (double& x : data) x = value(rng);
+  std::vector<unsigned char> flat(kLength);
+  for (int j = 0; j < kLength; ++j) flat[static_cast<std::size_t>(j)] = j % 9 == 4;
+  const auto row = [&](int k) { return data.data() + k * kLength; };
+  const double* c[3] = {row(0), row(1), row(2)};
+  const double* n[3] = {row(3), row(4), row(5)};
+  const double* t[3] = {row(6), row(7), row(8)};
+  const double* b[3] = {row(9), row(10), row(11)};
+  std::vector<double> result(3 * kLength);
+  double* const detail[3] = {result.data(), result.data() + kLength, result.data() + 2 * kLength};
+  detail_rows(c, n, t, b, flat.data(), detail);
+  int plain_differs = 0;
+  for (int r = 0; r < 3; ++r)
+    for (int j = 0; j < kLength; ++j) {
+      if (flat[static_cast<std::size_t>(j)]) {
+        EXPECT_EQ(detail[r][j], c[r][j]) << r << " " << j;
+        continue;
+      }
+      volatile double alpha_n = c[0][j] * n[r][j], beta_t = c[1][j] * t[r][j], gamma_b = c[2][j] * b[r][j];
+      const double inner = std::fma(c[1][j], t[r][j], alpha_n);
+      const double expected = r < 2 ? inner + gamma_b : std::fma(c[2][j], b[r][j], inner);
+      EXPECT_EQ(detail[r][j], expected) << "row " << r << " slot " << j;
+      volatile double plain = alpha_n + beta_t;
+      plain_differs += detail[r][j] != plain + gamma_b;
+    }
+  EXPECT_GT(plain_differs, 0);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "bcm/normal_detail.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -12,9 +13,9 @@ NormalDetail::NormalDetail(const Eigen::Ref<const Eigen::Matrix3Xd>& base, const
     : count_(count) {
   number_slots(count, static_cast<std::size_t>(base.cols()), triangles);
   positions_.resize(3, static_cast<Eigen::Index>(slots_.size()));
-  results_.resize(3, static_cast<Eigen::Index>(count));
   face_normals_.setZero(4, static_cast<Eigen::Index>(triangles_.size()));
-  coefficients_.resize(3, static_cast<Eigen::Index>(count));
+  // Whole blocks, zeros past count: reconstruction reads a block's coefficients as rows.
+  coefficients_.setZero(3, static_cast<Eigen::Index>((count + kBlock - 1) / kBlock * kBlock));
   choose_references(base);
   gather(base);
   face_normals();
@@ -162,6 +163,18 @@ void NormalDetail::block_frames(long first, Block3& n, Block3& t, Block3& b, Blo
   for (int j = 0; j < kBlock; ++j) flat[j] = !(length2[j] > 0) | !(tangent2[j] > 1e-24 * reference2[j]);
 }
 
+void NormalDetail::block_detail(long first, const Block3& n, const Block3& t, const Block3& b, const BlockFlags& flat,
+                                Block3& detail) const {
+  const auto rows = [](const Block3& a) { return std::array<const double*, 3>{a.row(0).data(), a.row(1).data(), a.row(2).data()}; };
+  const double* const c[3] = {coefficients_.row(0).data() + first, coefficients_.row(1).data() + first,
+                              coefficients_.row(2).data() + first};
+  const auto n_rows = rows(n), t_rows = rows(t), b_rows = rows(b);
+  double* const out[3] = {detail.row(0).data(), detail.row(1).data(), detail.row(2).data()};
+  // The flags as bytes (a bool is one byte, 0 or 1): GCC vectorizes a select on those.
+  const auto* flags = reinterpret_cast<const unsigned char*>(flat.data());
+  detail_rows(c, n_rows.data(), t_rows.data(), b_rows.data(), flags, out);
+}
+
 void NormalDetail::reconstruct(const Eigen::Ref<const Eigen::Matrix3Xd>& base, Eigen::Ref<Eigen::Matrix3Xd> out,
                                const std::vector<std::uint32_t>& columns) const {
 #pragma omp parallel
@@ -173,33 +186,23 @@ void NormalDetail::reconstruct(const Eigen::Ref<const Eigen::Matrix3Xd>& base, E
 
 void NormalDetail::reconstruct_in_team(Eigen::Ref<Eigen::Matrix3Xd> out, const std::vector<std::uint32_t>& columns) const {
   const long count = static_cast<long>(count_), blocks = (count + kBlock - 1) / kBlock;
-  // Three passes shared by the team, each element written by one thread with the same
-  // arithmetic whatever their number: face normals, per block of detail slots their
-  // frames and their detail added back, and the results out in vertex order (so that the
-  // writes into `out` run along it, not across it).
-  {
-    face_normals();
-    Block3 normal, tangent, bitangent;
-    BlockFlags flat;
-#pragma omp for schedule(static)
-    for (long block = 0; block < blocks; ++block) {
-      const long first = block * kBlock;
-      block_frames(first, normal, tangent, bitangent, flat);
-      for (long j = 0; j < kBlock && first + j < count; ++j) {
-        const long s = first + j;
-        const auto c = coefficients_.col(s);
-        Eigen::Vector3d x = positions_.col(s);
-        if (flat[j])
-          x += c.matrix();
-        else
-          x += (c[0] * normal.col(j) + c[1] * tangent.col(j) + c[2] * bitangent.col(j)).matrix();
-        results_.col(s) = x;
-      }
-    }
-    // No barrier after the last pass: the caller's team ends right after (the end of its
-    // parallel region waits for every thread).
+  // Two passes shared by the team, each element written by one thread with the same
+  // arithmetic whatever their number: the face normals, then per block of detail slots
+  // their frames and their detail added back, straight into `out`.
+  face_normals();
+  Block3 normal, tangent, bitangent, detail;
+  BlockFlags flat;
+  // No barrier after the last pass: the caller's team ends right after (the end of its
+  // parallel region waits for every thread).
 #pragma omp for schedule(static) nowait
-    for (long i = 0; i < count; ++i) out.col(columns[static_cast<std::size_t>(i)]) = results_.col(slot_of_[static_cast<std::size_t>(i)]);
+  for (long block = 0; block < blocks; ++block) {
+    const long first = block * kBlock;
+    block_frames(first, normal, tangent, bitangent, flat);
+    block_detail(first, normal, tangent, bitangent, flat, detail);
+    for (long j = 0; j < kBlock && first + j < count; ++j) {
+      const long s = first + j;
+      out.col(columns[slots_[static_cast<std::size_t>(s)]]) = positions_.col(s) + detail.col(j).matrix();
+    }
   }
 }
 

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "bcm/cotan_laplacian.h"
+#include "bcm/detail_rows.h"
 
 namespace ffd {
 
@@ -72,10 +73,13 @@ private:
   // after gather(): normal, tangent and bitangent rows, and where they are degenerate (the
   // world axes stand in). The one routine for encoding and reconstructing, so that an
   // unchanged base reproduces the surface.
-  static constexpr int kBlock = 128;  // detail slots per block of frame arithmetic (fits in L1)
+  static constexpr int kBlock = kDetailRowLength;  // detail slots per block of frame arithmetic (fits in L1)
   using Block3 = Eigen::Array<double, 3, kBlock, Eigen::RowMajor>;
   using BlockFlags = Eigen::Array<bool, 1, kBlock>;
   void block_frames(long first, Block3& normal, Block3& tangent, Block3& bitangent, BlockFlags& flat) const;
+  // The detail of those slots in those frames (detail_rows.h), one row per coordinate.
+  void block_detail(long first, const Block3& normal, const Block3& tangent, const Block3& bitangent,
+                    const BlockFlags& flat, Block3& detail) const;
   // The reference neighbour of each detail slot (the longest part in the tangent plane,
   // ties to the lowest vertex), fixed at encoding so that the frame turns with the surface
   // instead of jumping between neighbours.
@@ -87,14 +91,13 @@ private:
   std::vector<Triangle> triangles_;       // those with a detail vertex, in slots
   std::vector<std::uint32_t> incident_offset_, incident_;  // triangles around each detail slot
   std::vector<std::uint32_t> reference_;  // tangent reference neighbour per detail slot, a slot
-  Rows3 coefficients_;                    // per detail slot
+  Rows3 coefficients_;                    // per detail slot, in whole blocks (zeros past count_)
   // Scratch, sized once.
   mutable Eigen::Matrix3Xd positions_;    // per slot
   // Rows x, y, z and a zero: each face normal is one aligned 4-wide load, and the sum
   // around a vertex one 4-wide add per triangle: the same additions, coordinate by
   // coordinate, as with three scalars, in about half the instructions.
   mutable Eigen::Matrix4Xd face_normals_;
-  mutable Eigen::Matrix3Xd results_;      // per detail slot
 };
 
 }  // namespace ffd
