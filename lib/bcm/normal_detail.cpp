@@ -165,7 +165,9 @@ void NormalDetail::block_frames(long first, Block3& n, Block3& t, Block3& b, Blo
 
 void NormalDetail::block_detail(long first, const Block3& n, const Block3& t, const Block3& b, const BlockFlags& flat,
                                 Block3& detail) const {
-  const auto rows = [](const Block3& a) { return std::array<const double*, 3>{a.row(0).data(), a.row(1).data(), a.row(2).data()}; };
+  const auto rows = [](const Block3& a) {
+    return std::array<const double*, 3>{a.row(0).data(), a.row(1).data(), a.row(2).data()};
+  };
   const double* const c[3] = {coefficients_.row(0).data() + first, coefficients_.row(1).data() + first,
                               coefficients_.row(2).data() + first};
   const auto n_rows = rows(n), t_rows = rows(t), b_rows = rows(b);
