@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
+#include "bcm/basis_rows.h"
 #include "bcm/bcm_editor.h"
 #include "bcm_test_util.h"
 #include "test_meshes.h"
@@ -158,6 +160,55 @@ TEST(BcmEditor, BlendedContinuityEqualsTheLambdaRecursionSolvedDirectly) {
   Eigen::Matrix3Xd other = mesh.positions();
   bcm_pose(c2, other);
   EXPECT_GT((other - positions).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+// Eq. 6 row by row (basis_rows.h): the sum of the handles' frames times their weights, to
+// 1e-15 of an independent product, and bit for bit the fusions the header writes out. The
+// products kept apart go through volatile, so that no compiler fuses them here; the plain
+// form differs from the fused one on these numbers, so the test can fail. 133 vertices:
+// two whole runs of 64 and a partial one, from an offset.
+TEST(BasisRows, IsEquationSixWithTheFusionsWrittenOut) {
+  constexpr int kHandles = 3;
+  constexpr long kStride = 140, kBegin = 5, kEnd = 138;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> value(-1, 1);
+  std::vector<double> constant(3 * kStride), weights(4 * kHandles * kStride), frames(12 * kHandles);
+  for (auto* v : {&constant, &weights, &frames})
+    for (double& x : *v) x = value(rng);
+  std::vector<double> out(3 * kStride, 0.0);
+  basis_rows(constant.data(), weights.data(), kStride, frames.data(), kHandles, kBegin, kEnd, out.data());
+  int plain_differs = 0;
+  for (long i = kBegin; i < kEnd; ++i) {
+    Eigen::Vector3d product(constant[i], constant[kStride + i], constant[2 * kStride + i]);
+    for (int h = 0; h < kHandles; ++h) {
+      const Eigen::Map<const Eigen::Matrix<double, 3, 4>> f(frames.data() + 12 * h);
+      Eigen::Vector4d w;
+      for (int k = 0; k < 4; ++k) w[k] = weights[(4 * h + k) * kStride + i];
+      product += f * w;
+    }
+    for (int r = 0; r < 3; ++r) {
+      double x = constant[r * kStride + i], plain = x;
+      for (int h = 0; h < kHandles; ++h) {
+        const double* f = frames.data() + 12 * h;
+        const auto w = [&](int k) { return weights[(4 * h + k) * kStride + i]; };
+        volatile double p0 = w(0) * f[r], p1 = w(1) * f[3 + r], p2 = w(2) * f[6 + r], p3 = w(3) * f[9 + r];
+        if (r < 2) {
+          x = x + std::fma(w(3), f[9 + r], std::fma(w(2), f[6 + r], std::fma(w(1), f[3 + r], p0)));
+        } else {
+          x = x + (std::fma(w(3), f[9 + r], p2) + std::fma(w(1), f[3 + r], p0));
+        }
+        volatile double s01 = p0 + p1, s012 = s01 + p2;
+        plain = plain + (s012 + p3);
+      }
+      const double got = out[static_cast<std::size_t>(3 * i + r)];
+      EXPECT_EQ(got, x) << "vertex " << i << " row " << r;
+      EXPECT_NEAR(got, product[r], 1e-13);
+      plain_differs += got != plain;
+    }
+  }
+  EXPECT_GT(plain_differs, 0);
+  // Outside [begin, end) nothing is written.
+  for (long i = 0; i < kBegin; ++i) EXPECT_EQ(out[static_cast<std::size_t>(3 * i)], 0.0);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "bcm/anisotropic_laplacian.h"
+#include "bcm/basis_rows.h"
 #include "common/supernodal_cholesky.h"
 #include "common/errors.h"
 #include "common/timer.h"
@@ -182,6 +183,19 @@ void evaluate_basis(const BcmData& data, const Eigen::Matrix3Xd& constant, const
       x.noalias() += data.frame[static_cast<std::size_t>(h)] * basis.block<4, 1>(4 * h, i);
     write(i, x);
   }
+}
+
+// Eq. 6 for the free vertices into the detail's slots, shared by the threads of an
+// OpenMP team (basis_rows.h: row by row, its fusions written out), ending with a barrier.
+void slot_basis_in_team(const BcmData& data, Eigen::Matrix3Xd& base) {
+  constexpr long kChunk = 512;
+  const long p = static_cast<long>(data.slot_constant.cols()), chunks = (p + kChunk - 1) / kChunk;
+  const int handles = static_cast<int>(data.frame.size());
+  static_assert(sizeof(BcmFrame) == 12 * sizeof(double), "frames are 12 doubles apart");
+#pragma omp for schedule(static)
+  for (long chunk = 0; chunk < chunks; ++chunk)
+    basis_rows(data.slot_constant.data(), data.slot_basis.data(), p, data.frame.data()->data(), handles,
+               chunk * kChunk, std::min(p, (chunk + 1) * kChunk), base.data());
 }
 
 }  // namespace
@@ -372,9 +386,10 @@ void bcm_set_pose(BcmData& data, std::size_t h, const Eigen::Matrix3d& linear, c
 
 void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions, int threads) {
   // Eq. 6 per free vertex: p = const + Σ_h [a b c d]_h · (its 4 basis weights of h), a
-  // (3 × 4m)·(4m) product with the vertex's weights contiguous; fixed-size 3 × 4 blocks,
-  // no temporaries. One team of threads for the whole frame; each vertex is written by one
-  // thread with the same arithmetic whatever their number.
+  // (3 × 4m)·(4m) product; with detail, row by row over the detail's slots (basis_rows.h),
+  // else per vertex with its weights contiguous (fixed-size 3 × 4 blocks, no temporaries).
+  // One team of threads for the whole frame; each vertex is written by one thread with the
+  // same arithmetic whatever their number.
   const bool detail = data.options.detail;
   const std::uint32_t* free = data.regions.free.data();
 #pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads())
@@ -396,7 +411,7 @@ void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions, int threads
       }
     }
     if (detail)
-      evaluate_basis(data, data.slot_constant, data.slot_basis, [&](long s, const Eigen::Vector3d& x) { base.col(s) = x; });
+      slot_basis_in_team(data, base);
     else
       evaluate_basis(data, data.constant, data.basis, [&](long i, const Eigen::Vector3d& x) { positions.col(free[i]) = x; });
     // Section 4: the detail rides on the moved base.

@@ -87,8 +87,9 @@ struct BcmData {
   // comes again with its columns in the detail's slot order (free vertex i at
   // detail.slot(i)).
   NormalDetail detail;
-  Eigen::Matrix3Xd slot_constant;
-  Eigen::MatrixXd slot_basis;
+  // By rows (a row is one coordinate or one weight over the slots), for basis_rows().
+  Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor> slot_constant;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> slot_basis;
 };
 
 /// Phase 1, regions and rings: checks the options, splits the support into free and

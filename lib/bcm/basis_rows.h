@@ -1,0 +1,18 @@
+// Eq. 6 of Botsch & Kobbelt for a run of free vertices, row by row (vectors over the
+// vertices), with its fused multiply-adds written out (basis_rows.cpp), so that its bits
+// do not depend on the loop around it or on how the compiler vectorizes it.
+#pragma once
+
+namespace ffd {
+
+/// Writes out[3 i .. 3 i + 2] = constant_i + Σ_h F_h w_hi for each vertex i in
+/// [begin, end): `constant` is 3 rows and `weights` 4·handles rows (handle h's four at
+/// rows 4h .. 4h + 3), each `stride` long; F_h is the 3 × 4 frame of handle h, column by
+/// column, 12 doubles from frames + 12 h. Handle by handle, rows x and y add
+/// fma(w3, F3, fma(w2, F2, fma(w1, F1, w0 F0))) and row z adds
+/// fma(w3, F3, w2 F2) + fma(w1, F1, w0 F0): how GCC 12 fused the column-at-a-time loop
+/// that this replaces, in the default build (AVX-512), so that its outputs kept their bits.
+void basis_rows(const double* constant, const double* weights, long stride, const double* frames, int handles,
+                long begin, long end, double* out);
+
+}  // namespace ffd
