@@ -192,10 +192,11 @@ void slot_basis_in_team(const BcmData& data, Eigen::Matrix3Xd& base) {
   const long p = static_cast<long>(data.slot_constant.cols()), chunks = (p + kChunk - 1) / kChunk;
   const int handles = static_cast<int>(data.frame.size());
   static_assert(sizeof(BcmFrame) == 12 * sizeof(double), "frames are 12 doubles apart");
+  const double* frames = handles > 0 ? data.frame.front().data() : nullptr;
 #pragma omp for schedule(static)
   for (long chunk = 0; chunk < chunks; ++chunk)
-    basis_rows(data.slot_constant.data(), data.slot_basis.data(), p, data.frame.data()->data(), handles,
-               chunk * kChunk, std::min(p, (chunk + 1) * kChunk), base.data());
+    basis_rows(data.slot_constant.data(), data.slot_basis.data(), p, frames, handles, chunk * kChunk,
+               std::min(p, (chunk + 1) * kChunk), base.data());
 }
 
 }  // namespace
