@@ -176,7 +176,7 @@ TEST(BasisRows, IsEquationSixWithTheFusionsWrittenOut) {
   for (auto* v : {&constant, &weights, &frames})
     for (double& x : *v) x = value(rng);
   std::vector<double> out(3 * kStride, 0.0);
-  basis_rows(constant.data(), weights.data(), kStride, frames.data(), kHandles, kBegin, kEnd, out.data());
+  basis_rows(constant.data(), weights.data(), kStride, frames.data(), kHandles, kBegin, kEnd, nullptr, 3, out.data());
   int plain_differs = 0;
   for (long i = kBegin; i < kEnd; ++i) {
     Eigen::Vector3d product(constant[i], constant[kStride + i], constant[2 * kStride + i]);

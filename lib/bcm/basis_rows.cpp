@@ -35,7 +35,7 @@ void run_rows(const double* const c[3], const double* weights, long stride, cons
 }  // namespace
 
 void basis_rows(const double* constant, const double* weights, long stride, const double* frames, int handles,
-                long begin, long end, double* out) {
+                long begin, long end, const std::uint32_t* columns, long out_stride, double* out) {
   double x[3][kRun];
   for (long first = begin; first < end; first += kRun) {
     const int count = static_cast<int>(std::min<long>(kRun, end - first));
@@ -44,8 +44,11 @@ void basis_rows(const double* constant, const double* weights, long stride, cons
       run_rows<kRun>(c, weights + first, stride, frames, handles, count, x);
     else
       run_rows<0>(c, weights + first, stride, frames, handles, count, x);
-    for (int j = 0; j < count; ++j)
-      for (int r = 0; r < 3; ++r) out[3 * (first + j) + r] = x[r][j];
+    for (int j = 0; j < count; ++j) {
+      const long i = first + j;
+      double* column = out + (columns ? static_cast<long>(columns[i]) : i) * out_stride;
+      for (int r = 0; r < 3; ++r) column[r] = x[r][j];
+    }
   }
 }
 

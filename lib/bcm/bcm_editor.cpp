@@ -169,34 +169,22 @@ Eigen::MatrixXd constrained_positions(const BcmData& data) {
   return x;
 }
 
-// Eq. 6 at the current poses for the free vertices whose weights are the columns of
-// `constant` and `basis`, written through `write(i, x)`. Inside an OpenMP team the threads
-// share the vertices; outside one it runs alone.
-template <class Write>
-void evaluate_basis(const BcmData& data, const Eigen::Matrix3Xd& constant, const Eigen::MatrixXd& basis, Write write) {
-  const long p_count = static_cast<long>(constant.cols());
-  const Eigen::Index m = static_cast<Eigen::Index>(data.frame.size());
-#pragma omp for schedule(static)
-  for (long i = 0; i < p_count; ++i) {
-    Eigen::Vector3d x = constant.col(i);
-    for (Eigen::Index h = 0; h < m; ++h)
-      x.noalias() += data.frame[static_cast<std::size_t>(h)] * basis.block<4, 1>(4 * h, i);
-    write(i, x);
-  }
-}
-
-// Eq. 6 for the free vertices into the detail's slots, shared by the threads of an
-// OpenMP team (basis_rows.h: row by row, its fusions written out), ending with a barrier.
-void slot_basis_in_team(const BcmData& data, Eigen::Matrix3Xd& base) {
+// Eq. 6 at the current poses for the free vertices whose constants and weights are the
+// columns of `constant` and `basis` (stored by rows), vertex i into out's column i, or
+// columns[i] where `columns` is given (basis_rows.h: row by row, its fusions written out).
+// Inside an OpenMP team the threads share the vertices and meet at a barrier after them;
+// outside one it runs alone.
+void evaluate_basis(const BcmData& data, const BcmRows& constant, const BcmRows& basis, const std::uint32_t* columns,
+                    double* out, long out_stride) {
   constexpr long kChunk = 512;
-  const long p = static_cast<long>(data.slot_constant.cols()), chunks = (p + kChunk - 1) / kChunk;
+  const long p = static_cast<long>(constant.cols()), chunks = (p + kChunk - 1) / kChunk;
   const int handles = static_cast<int>(data.frame.size());
   static_assert(sizeof(BcmFrame) == 12 * sizeof(double), "frames are 12 doubles apart");
   const double* frames = handles > 0 ? data.frame.front().data() : nullptr;
 #pragma omp for schedule(static)
   for (long chunk = 0; chunk < chunks; ++chunk)
-    basis_rows(data.slot_constant.data(), data.slot_basis.data(), p, frames, handles, chunk * kChunk,
-               std::min(p, (chunk + 1) * kChunk), base.data());
+    basis_rows(constant.data(), basis.data(), p, frames, handles, chunk * kChunk, std::min(p, (chunk + 1) * kChunk),
+               columns, out_stride, out);
 }
 
 }  // namespace
@@ -319,7 +307,7 @@ void bcm_detail(BcmData& data) {
   Eigen::Matrix3Xd surface = data.stencil_setup;
   surface.colwise() += data.origin;
   Eigen::Matrix3Xd base = surface;
-  evaluate_basis(data, data.constant, data.basis, [&](long i, const Eigen::Vector3d& x) { base.col(i) = x; });
+  evaluate_basis(data, data.constant, data.basis, nullptr, base.data(), base.outerStride());
   data.detail = NormalDetail(base, surface, data.stencil.num_free, data.stencil.triangles);
   // The weights again in the detail's slot order, so that each frame writes its base
   // straight along the detail's copy of it.
@@ -387,10 +375,9 @@ void bcm_set_pose(BcmData& data, std::size_t h, const Eigen::Matrix3d& linear, c
 
 void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions, int threads) {
   // Eq. 6 per free vertex: p = const + Σ_h [a b c d]_h · (its 4 basis weights of h), a
-  // (3 × 4m)·(4m) product; with detail, row by row over the detail's slots (basis_rows.h),
-  // else per vertex with its weights contiguous (fixed-size 3 × 4 blocks, no temporaries).
-  // One team of threads for the whole frame; each vertex is written by one thread with the
-  // same arithmetic whatever their number.
+  // (3 × 4m)·(4m) product, row by row over the vertices (basis_rows.h); with detail, in
+  // the detail's slot order. One team of threads for the whole frame; each vertex is
+  // written by one thread with the same arithmetic whatever their number.
   const bool detail = data.options.detail;
   const std::uint32_t* free = data.regions.free.data();
 #pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads())
@@ -412,9 +399,9 @@ void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions, int threads
       }
     }
     if (detail)
-      slot_basis_in_team(data, base);
+      evaluate_basis(data, data.slot_constant, data.slot_basis, nullptr, base.data(), base.outerStride());
     else
-      evaluate_basis(data, data.constant, data.basis, [&](long i, const Eigen::Vector3d& x) { positions.col(free[i]) = x; });
+      evaluate_basis(data, data.constant, data.basis, free, positions.data(), positions.outerStride());
     // Section 4: the detail rides on the moved base.
     if (detail) data.detail.reconstruct_in_team(positions, data.regions.free);
   }

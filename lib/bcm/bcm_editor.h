@@ -56,6 +56,9 @@ struct BcmFactorDelete {
 
 /// An affine frame of a handle: its points a, b, c, d as columns (eq. 6).
 using BcmFrame = Eigen::Matrix<double, 3, 4>;
+/// Per-vertex numbers stored by rows (a row is one coordinate or one weight over the
+/// vertices), as eq. 6's row kernel reads them (basis_rows.h).
+using BcmRows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 /// What a boundary-constraint edit precomputes, phase by phase, and its current poses.
 /// Local vertex numbering is the stencil's: free vertices first, then constrained ones.
@@ -74,8 +77,8 @@ struct BcmData {
   Eigen::SparseMatrix<double> constrained_block;
   std::unique_ptr<BcmFactor, BcmFactorDelete> factor;
   // Basis (eq. 6).
-  Eigen::Matrix3Xd constant;  // 3 × P: origin + L⁻¹(0, f, 0)ᵀ
-  Eigen::MatrixXd basis;      // 4·handles × P: a vertex's 4·m weights contiguous
+  BcmRows constant;  // 3 × P: origin + L⁻¹(0, f, 0)ᵀ
+  BcmRows basis;     // 4·handles × P: handle h's weights in rows 4h .. 4h + 3
   std::vector<BcmFrame> frame_setup, frame;  // per handle, relative to origin
   std::vector<Eigen::Vector3d> centroid;
   std::vector<double> radius;
@@ -87,9 +90,8 @@ struct BcmData {
   // comes again with its columns in the detail's slot order (free vertex i at
   // detail.slot(i)).
   NormalDetail detail;
-  // By rows (a row is one coordinate or one weight over the slots), for basis_rows().
-  Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor> slot_constant;
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> slot_basis;
+  BcmRows slot_constant;
+  BcmRows slot_basis;
 };
 
 /// Phase 1, regions and rings: checks the options, splits the support into free and
