@@ -44,10 +44,9 @@ std::string mesh_folder(const std::string& name, bool broken) {
   const std::string dir = temp_folder(name);
   const std::string in = dir + "/in";
   fs::create_directories(in);
-  const std::string cgal = test::cgal_meshes();
-  EXPECT_FALSE(cgal.empty()) << "CGAL's data set is missing: scripts/setup.sh installs libcgal-demo";
+  EXPECT_FALSE(test::cgal_meshes().empty()) << "CGAL's data set is missing: scripts/setup.sh installs libcgal-demo";
   for (const char* name : {"pig.stl", "sphere.ply", "cube.off", "octahedron.off", "elephant.off", "b9.ply"})
-    fs::copy(cgal + "/" + name, in);
+    fs::copy(test::cgal_mesh(name), in);
   fs::copy(data("bunny.obj"), in);
   fs::copy(data("grid.obj"), in);
   if (broken) write_file(in + "/broken.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");

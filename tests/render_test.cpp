@@ -129,13 +129,12 @@ TEST(Render, MatchesTheCheckedInBunnyWithinAFewLevels) {
 }
 
 TEST(Render, CgalMeshesRenderAndSurviveAGlbRoundTrip) {
-  const std::string dir = test::cgal_meshes();
-  if (dir.empty()) GTEST_SKIP() << "libcgal-demo is not installed";
+  if (test::cgal_meshes().empty()) GTEST_SKIP() << "libcgal-demo is not installed";
   const std::string out = test::temp_folder("render_cgal");
   for (const char* name : {"elephant.off", "pig.stl", "cube.off"}) {
     RenderOptions o;
     set_size(o, "200x150");
-    const Mesh mesh = read_mesh(dir + "/" + name);
+    const Mesh mesh = read_mesh(test::cgal_mesh(name));
     const Image im = render_mesh(mesh, o);
     EXPECT_GT(covered_fraction(im), 0.1) << name;
     // The same mesh through a GLB: float32 positions, the same triangles, the same picture

@@ -259,8 +259,8 @@ void expect_one_error_line(const std::string& err, const std::vector<std::string
 std::string cgal_meshes() { return fs::is_directory(FFD_CGAL_MESHES) ? std::string(FFD_CGAL_MESHES) : std::string(); }
 
 std::string cgal_mesh(const std::string& name) {
-  const std::string path = std::string(FFD_CGAL_MESHES) + "/" + name;
-  return fs::exists(path) ? path : std::string();
+  const std::string dir = cgal_meshes();
+  return !dir.empty() && fs::exists(dir + "/" + name) ? dir + "/" + name : std::string();
 }
 
 std::string script(const std::vector<std::string>& steps) {
