@@ -13,6 +13,7 @@
 
 #include "bcm/detail_rows.h"
 #include "bcm/normal_detail.h"
+#include "bcm/triangle_normals.h"
 #include "bcm_test_util.h"
 #include "test_meshes.h"
 
@@ -185,6 +186,46 @@ TEST(DetailRows, FuseWhereWrittenOutAndNowhereElse) {
       volatile double plain = alpha_n + beta_t;
       plain_differs += detail[r][j] != plain + gamma_b;
     }
+  EXPECT_GT(plain_differs, 0);
+}
+
+// triangle_normals() is the cross product (p1 − p0) × (p2 − p0), rounded as its header
+// writes out, whether it ran as vectors or not; the fourth coordinate is zero, and nothing
+// outside the range is written.
+TEST(TriangleNormals, AreTheCrossProductWithTheFusionsWrittenOut) {
+  constexpr long kPoints = 40, kTriangles = 300, kBegin = 7, kEnd = 290;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> value(-1, 1);
+  std::uniform_int_distribution<std::uint32_t> corner(0, kPoints - 1);
+  std::vector<double> points(4 * kPoints, 0.0);
+  for (long i = 0; i < kPoints; ++i)
+    for (int r = 0; r < 3; ++r) points[static_cast<std::size_t>(4 * i + r)] = value(rng);
+  std::vector<std::uint32_t> corners(3 * kTriangles);
+  for (std::uint32_t& c : corners) c = corner(rng);
+  const double kUnwritten = -7.0;
+  std::vector<double> normals(4 * kTriangles, kUnwritten);
+  triangle_normals(points.data(), corners.data(), kBegin, kEnd, normals.data());
+  int plain_differs = 0;
+  for (long f = 0; f < kTriangles; ++f) {
+    const double* n = normals.data() + 4 * f;
+    if (f < kBegin || f >= kEnd) {
+      for (int r = 0; r < 4; ++r) EXPECT_EQ(n[r], kUnwritten) << "triangle " << f;
+      continue;
+    }
+    const auto at = [&](int k) { return Eigen::Map<const Eigen::Vector3d>(points.data() + 4 * corners[static_cast<std::size_t>(3 * f + k)]); };
+    const Eigen::Vector3d e1 = at(1) - at(0), e2 = at(2) - at(0);
+    // The products that stay apart go through volatile, so that this file's compiler
+    // cannot fuse them.
+    volatile double yz = e1.y() * e2.z(), zy = e1.z() * e2.y(), zx = e1.z() * e2.x(), xz = e1.x() * e2.z(),
+                    xy = e1.x() * e2.y(), yx = e1.y() * e2.x();
+    EXPECT_EQ(n[0], std::fma(-e1.z(), e2.y(), yz)) << "triangle " << f;
+    EXPECT_EQ(n[1], std::fma(-e1.x(), e2.z(), zx)) << "triangle " << f;
+    EXPECT_EQ(n[2], std::fma(e1.x(), e2.y(), -yx)) << "triangle " << f;
+    EXPECT_EQ(n[3], 0.0) << "triangle " << f;
+    const Eigen::Vector3d cross = e1.cross(e2);
+    for (int r = 0; r < 3; ++r) EXPECT_NEAR(n[r], cross[r], 1e-15) << "triangle " << f;
+    plain_differs += n[0] != yz - zy || n[1] != zx - xz || n[2] != xy - yx;
+  }
   EXPECT_GT(plain_differs, 0);
 }
 

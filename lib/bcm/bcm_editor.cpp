@@ -383,7 +383,7 @@ void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions, int threads
 #pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads())
   {
     // With detail, the moved base goes straight into the detail's own copy of it.
-    Eigen::Matrix3Xd& base = data.detail.base_in_slots();
+    Eigen::Matrix4Xd& base = data.detail.base_in_slots();
     // The handles first, by one thread without a barrier: they write other columns than
     // the basis below, whose loop ends with the barrier that both need before the detail.
 #pragma omp single nowait
@@ -395,7 +395,7 @@ void bcm_pose(BcmData& data, Eigen::Ref<Eigen::Matrix3Xd> positions, int threads
         const Eigen::Vector3d x = a * data.handle_setup[h].col(static_cast<Eigen::Index>(i)) + t;
         positions.col(ids[i]) = x;
         const std::uint32_t slot = detail ? data.detail.slot(data.handle_local[h][i]) : UINT32_MAX;
-        if (slot != UINT32_MAX) base.col(slot) = x;
+        if (slot != UINT32_MAX) base.col(slot).head<3>() = x;
       }
     }
     if (detail)

@@ -6,14 +6,16 @@
 
 #include <Eigen/Geometry>
 
+#include "bcm/triangle_normals.h"
+
 namespace ffd {
 
 NormalDetail::NormalDetail(const Eigen::Ref<const Eigen::Matrix3Xd>& base, const Eigen::Ref<const Eigen::Matrix3Xd>& detailed,
                            std::size_t count, const std::vector<Triangle>& triangles)
     : count_(count) {
   number_slots(count, static_cast<std::size_t>(base.cols()), triangles);
-  positions_.resize(3, static_cast<Eigen::Index>(slots_.size()));
-  face_normals_.setZero(4, static_cast<Eigen::Index>(triangles_.size()));
+  positions_.setZero(4, static_cast<Eigen::Index>(slots_.size()));
+  face_normals_.resize(4, static_cast<Eigen::Index>(triangles_.size()));
   // Whole blocks, zeros past count: reconstruction reads a block's coefficients as rows.
   coefficients_.setZero(3, static_cast<Eigen::Index>((count + kBlock - 1) / kBlock * kBlock));
   choose_references(base);
@@ -116,18 +118,18 @@ void NormalDetail::gather(const Eigen::Ref<const Eigen::Matrix3Xd>& base) const 
   const long slots = static_cast<long>(slots_.size());
   // Inside a parallel region this loop shares the work; outside it it runs alone.
 #pragma omp for schedule(static)
-  for (long s = 0; s < slots; ++s) positions_.col(s) = base.col(slots_[static_cast<std::size_t>(s)]);
+  for (long s = 0; s < slots; ++s) positions_.col(s).head<3>() = base.col(slots_[static_cast<std::size_t>(s)]);
 }
 
 void NormalDetail::face_normals() const {
-  const long faces = static_cast<long>(triangles_.size());
+  // Twice the area times the unit normal: area-weighted vertex normals.
+  static_assert(sizeof(Triangle) == 3 * sizeof(std::uint32_t), "triangles are three corners apart");
+  constexpr long kRun = 1024;  // triangles per share of the work
+  const long faces = static_cast<long>(triangles_.size()), runs = (faces + kRun - 1) / kRun;
+  const std::uint32_t* corners = triangles_.empty() ? nullptr : triangles_.front().data();
 #pragma omp for schedule(static)
-  for (long f = 0; f < faces; ++f) {
-    const Triangle& t = triangles_[static_cast<std::size_t>(f)];
-    const Eigen::Vector3d a = positions_.col(t[0]);
-    // Twice the area times the unit normal: area-weighted vertex normals.
-    face_normals_.col(f).head<3>() = (positions_.col(t[1]) - a).cross(positions_.col(t[2]) - a);
-  }
+  for (long run = 0; run < runs; ++run)
+    triangle_normals(positions_.data(), corners, run * kRun, std::min(faces, (run + 1) * kRun), face_normals_.data());
 }
 
 void NormalDetail::block_frames(long first, Block3& n, Block3& t, Block3& b, BlockFlags& flat) const {
@@ -142,7 +144,7 @@ void NormalDetail::block_frames(long first, Block3& n, Block3& t, Block3& b, Blo
     Eigen::Vector4d sum = Eigen::Vector4d::Zero();
     for (std::uint32_t e = incident_offset_[s]; e < incident_offset_[s + 1]; ++e) sum += face_normals_.col(incident_[e]);
     n.col(j) = sum.head<3>().array();
-    t.col(j) = (positions_.col(reference_[s]) - positions_.col(static_cast<Eigen::Index>(s))).array();
+    t.col(j) = (positions_.col(reference_[s]).head<3>() - positions_.col(static_cast<Eigen::Index>(s)).head<3>()).array();
   }
   // Row arithmetic: n = sum/|sum|, t = (d − (d·n)n)/|…|, b = n × t.
   using Row = Eigen::Array<double, 1, kBlock>;
@@ -203,7 +205,7 @@ void NormalDetail::reconstruct_in_team(Eigen::Ref<Eigen::Matrix3Xd> out, const s
     block_detail(first, normal, tangent, bitangent, flat, detail);
     for (long j = 0; j < kBlock && first + j < count; ++j) {
       const long s = first + j;
-      out.col(columns[slots_[static_cast<std::size_t>(s)]]) = positions_.col(s) + detail.col(j).matrix();
+      out.col(columns[slots_[static_cast<std::size_t>(s)]]) = positions_.col(s).head<3>() + detail.col(j).matrix();
     }
   }
 }

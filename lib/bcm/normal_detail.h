@@ -43,9 +43,10 @@ public:
   void reconstruct(const Eigen::Ref<const Eigen::Matrix3Xd>& base, Eigen::Ref<Eigen::Matrix3Xd> out,
                    const std::vector<std::uint32_t>& columns) const;
   /// The base as the detail holds it, one column per slot: a caller that moves the base
-  /// itself writes the moved positions here (column slot(v) for vertex v) and then calls
-  /// reconstruct_in_team(), saving reconstruct()'s copy of the whole base.
-  Eigen::Matrix3Xd& base_in_slots() const { return positions_; }
+  /// itself writes the moved positions here (rows 0-2 of column slot(v) for vertex v; row 3
+  /// stays zero) and then calls reconstruct_in_team(), saving reconstruct()'s copy of the
+  /// whole base.
+  Eigen::Matrix4Xd& base_in_slots() const { return positions_; }
   /// Vertex v's column in base_in_slots(), or UINT32_MAX where the detail does not read it.
   std::uint32_t slot(std::uint32_t v) const { return v < slot_of_.size() ? slot_of_[v] : UINT32_MAX; }
   /// reconstruct() from base_in_slots(), called by every thread of an enclosing OpenMP team
@@ -93,7 +94,9 @@ private:
   std::vector<std::uint32_t> reference_;  // tangent reference neighbour per detail slot, a slot
   Rows3 coefficients_;                    // per detail slot, in whole blocks (zeros past count_)
   // Scratch, sized once.
-  mutable Eigen::Matrix3Xd positions_;    // per slot
+  // Per slot: rows x, y, z and a zero, so that the face normals load each corner as one
+  // 4-wide vector (triangle_normals.h).
+  mutable Eigen::Matrix4Xd positions_;
   // Rows x, y, z and a zero: each face normal is one aligned 4-wide load, and the sum
   // around a vertex one 4-wide add per triangle: the same additions, coordinate by
   // coordinate, as with three scalars, in about half the instructions.
