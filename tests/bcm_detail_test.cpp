@@ -212,7 +212,9 @@ TEST(TriangleNormals, AreTheCrossProductWithTheFusionsWrittenOut) {
       for (int r = 0; r < 4; ++r) EXPECT_EQ(n[r], kUnwritten) << "triangle " << f;
       continue;
     }
-    const auto at = [&](int k) { return Eigen::Map<const Eigen::Vector3d>(points.data() + 4 * corners[static_cast<std::size_t>(3 * f + k)]); };
+    const auto at = [&](int k) {
+      return Eigen::Map<const Eigen::Vector3d>(points.data() + 4 * corners[static_cast<std::size_t>(3 * f + k)]);
+    };
     const Eigen::Vector3d e1 = at(1) - at(0), e2 = at(2) - at(0);
     // The products that stay apart go through volatile, so that this file's compiler
     // cannot fuse them.
