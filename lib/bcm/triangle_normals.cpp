@@ -6,12 +6,13 @@
 #include <cmath>
 
 #if defined(__AVX2__) && defined(__FMA__)
+#define FFD_TRIANGLE_VECTORS 1
 #include <immintrin.h>
 #endif
 
 namespace ffd {
 
-#if defined(__AVX2__) && defined(__FMA__)
+#ifdef FFD_TRIANGLE_VECTORS
 
 void triangle_normals(const double* points, const std::uint32_t* corners, long begin, long end, double* normals) {
   // Lane by lane (x, y, z, w): the rounded product e1(y z y w)·e2(z x x w), its sign flipped
