@@ -154,6 +154,29 @@ TEST(CellCoordinates, TheLanesLocateBitForBitAsInverseTrilinear) {
   EXPECT_GT(decided, total * 3 / 4);
 }
 
+TEST(CellCoordinates, SetCellsWritesWhatSetCellWritesLaneByLane) {
+  // set_cells transposes four lanes' corners at once; it must be a copy, bit for bit, of
+  // set_cell's lane by lane, with corners anywhere in the matrix (its last column too, which
+  // a four-wide load would overrun) and lanes that share corners.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> value(-1e3, 1e3);
+  for (const Eigen::Index n : {Eigen::Index{1}, Eigen::Index{9}, Eigen::Index{4913}}) {
+    Eigen::Matrix3Xd positions(3, n);
+    for (Eigen::Index p = 0; p < n; ++p) positions.col(p) << value(rng), value(rng), value(rng);
+    for (int trial = 0; trial < 50; ++trial) {
+      std::int32_t corner[TrilinearLanes::kLanes][8];
+      TrilinearLanes one_by_one, all;
+      for (int lane = 0; lane < TrilinearLanes::kLanes; ++lane) {
+        for (int c = 0; c < 8; ++c)
+          corner[lane][c] = static_cast<std::int32_t>(trial % 5 == 0 ? n - 1 : static_cast<Eigen::Index>(rng() % n));
+        one_by_one.set_cell(lane, positions, corner[lane]);
+      }
+      all.set_cells(positions, corner);
+      ASSERT_EQ(std::memcmp(one_by_one.corners, all.corners, sizeof all.corners), 0) << n << " trial " << trial;
+    }
+  }
+}
+
 TEST(CellCoordinates, TheDisplacementGradientBoundHoldsAnywhereInTheCell) {
   // Bent cells (cubes with corners moved by up to a third of their edge) and corner
   // displacements from small to folding; at random points, the bound is at least the

@@ -278,8 +278,10 @@ private:
   /// The grid level's displacement at `where`; `jacobian`, when given, gains its gradient
   /// (the level's part of dF/dx - I); `bound2`, when given, receives the square of a bound
   /// of that gradient's 2-norm from the rest cell's Jacobian `dx_du` there.
+  /// `corner`, when given, holds the cell's corners (else they are looked up).
   Eigen::Vector3d displacement(int level, const Location& where, Eigen::Matrix3d* jacobian,
-                               const Eigen::Matrix3d* dx_du = nullptr, double* bound2 = nullptr) const;
+                               const Eigen::Matrix3d* dx_du = nullptr, double* bound2 = nullptr,
+                               const std::int32_t* corner = nullptr) const;
   /// F(x) - x summed over the moved levels, and whether x lies in a cell where some
   /// level's displacement may be non-zero (if not, F(x) = x exactly).
   bool displacement(const Eigen::Vector3d& x, Eigen::Vector3d& d, Eigen::Matrix3d* jacobian) const;
@@ -303,6 +305,7 @@ private:
     bool found = false;
     Location where;
     Eigen::Matrix3d dx_du;
+    std::int32_t corner[8];  // the cell's corners (StepGrid::corners), read by displacement()
   };
   /// The cell of C^k (grid level `level`) at grid cell `c` of its resolution, its rest
   /// lattice subdivided there, and the guess of x's coordinates in it from box coordinates

@@ -139,9 +139,13 @@ void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& i
   TrilinearLanes lanes;
   Walk lane_walk[TrilinearLanes::kLanes];
   std::int32_t lane_cell[TrilinearLanes::kLanes];
+  std::int32_t lane_corners[TrilinearLanes::kLanes][8];
   int used = 0;
   const auto solve = [&] {
-    lanes.pad(used);
+    for (int lane = used; lane < TrilinearLanes::kLanes; ++lane)  // a last batch's unused lanes: lane 0's cell
+      std::copy(lane_corners[0], lane_corners[0] + 8, lane_corners[lane]);
+    lanes.set_cells(level.fine[static_cast<std::size_t>(k)], lane_corners);
+    lanes.pad_points(used);
     inverse_trilinear(lanes);
     for (int lane = 0; lane < used; ++lane) {
       if (!lanes.decided[lane]) continue;
@@ -156,6 +160,7 @@ void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& i
       found.found = true;
       found.where.step = k, found.where.cell = lane_cell[lane], found.where.u = u.cwiseMax(0.0).cwiseMin(1.0);
       lanes.get_dx_du(lane, found.dx_du);
+      std::copy(lane_corners[lane], lane_corners[lane] + 8, found.corner);
     }
     used = 0;
   };
@@ -163,9 +168,7 @@ void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& i
     Eigen::Vector3d guess;
     const std::int32_t cell = ready_cell(l, k, walk.cell, t[walk.i], guess);
     if (cell < 0) return;
-    std::int32_t corner[8];
-    g.corners(cell, corner);
-    lanes.set_cell(used, level.fine[static_cast<std::size_t>(k)], corner);
+    g.corners(cell, lane_corners[used]);
     lanes.set_point(used, in_pos.col(ids[walk.i]), guess);
     lane_walk[used] = walk, lane_cell[used] = cell;
     if (++used == TrilinearLanes::kLanes) solve();
@@ -186,14 +189,15 @@ void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& i
 }
 
 Eigen::Vector3d OctreeLattice::displacement(int l, const Location& where, Eigen::Matrix3d* jacobian,
-                                            const Eigen::Matrix3d* dx_du, double* bound2) const {
+                                            const Eigen::Matrix3d* dx_du, double* bound2,
+                                            const std::int32_t* given_corner) const {
   const Level& level = levels_[l];
-  const StepGrid g = level.step_grid(where.step);
   double w[8];
   Eigen::Matrix<double, 8, 3> dw;
   trilinear_weights(where.u, w, jacobian ? &dw : nullptr);
-  std::int32_t corner[8];
-  g.corners(where.cell, corner);
+  std::int32_t looked_up[8];
+  if (!given_corner) level.step_grid(where.step).corners(where.cell, looked_up);
+  const std::int32_t* corner = given_corner ? given_corner : looked_up;
   const auto disp = level.disp[static_cast<std::size_t>(where.step)].map();
   CellCorners D;
   for (int c = 0; c < 8; ++c) D.col(c) = disp.col(corner[c]);
@@ -253,10 +257,11 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
                                      Eigen::Matrix3d* jacobian, const Located* located) const {
   Eigen::Matrix3d dx_du;  // the rest cell's Jacobian, when located here
   bool located_here = false;
+  const std::int32_t* corner = nullptr;  // the cell's corners, when prelocated
   if (tag.state == 0) {
     Location where;
     if (located && located->found)
-      where = located->where, dx_du = located->dx_du, tag.state = 1;
+      where = located->where, dx_du = located->dx_du, tag.state = 1, corner = located->corner;
     else
       tag.state = locate(l, x, t, where, &dx_du) ? 1 : 2;
     located_.fetch_add(1, std::memory_order_relaxed);
@@ -269,7 +274,7 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
     // A first move without normals: the locate's Jacobian bounds the part, and the part
     // itself is computed only if the bounds cannot decide the vertex's fold.
     double bound2;
-    tag.d = displacement(l, where, nullptr, &dx_du, &bound2);
+    tag.d = displacement(l, where, nullptr, &dx_du, &bound2, corner);
     tag.bound2 = static_cast<float>(bound2);
     if (bound2 > kTightenAbove * kTightenAbove) tag.bound2 = static_cast<float>(jacobian_part(l, tag).squaredNorm());
     return true;

@@ -2,20 +2,48 @@
 // written out, where GCC fuses the scalar code's, and no other product is fused.
 #include "multires/trilinear_lanes.h"
 
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
 #if defined(__AVX2__) && defined(__FMA__) && !defined(__clang__)
 #define FFD_TRILINEAR_LANES 1
-#include <immintrin.h>
 #endif
 
 namespace ffd {
 
 void TrilinearLanes::pad(int from) {
-  for (int lane = from; lane < kLanes; ++lane) {
-    for (int i = 0; i < 3; ++i) {
+  for (int lane = from; lane < kLanes; ++lane)
+    for (int i = 0; i < 3; ++i)
       for (int c = 0; c < 8; ++c) corners[i][c][lane] = corners[i][c][0];
-      x[i][lane] = x[i][0], guess[i][lane] = guess[i][0];
-    }
+  pad_points(from);
+}
+
+void TrilinearLanes::pad_points(int from) {
+  for (int lane = from; lane < kLanes; ++lane)
+    for (int i = 0; i < 3; ++i) x[i][lane] = x[i][0], guess[i][lane] = guess[i][0];
+}
+
+void TrilinearLanes::set_cells(const Eigen::Matrix3Xd& positions, const std::int32_t corner[kLanes][8]) {
+#ifdef __AVX2__
+  static_assert(kLanes == 4, "one four-by-four transpose per corner");
+  const double* data = positions.data();
+  // Column p as (x, y, z, 0): two loads that stay inside the column (the last one too).
+  const auto column = [data](std::int32_t p) {
+    const double* q = data + 3 * static_cast<std::ptrdiff_t>(p);
+    return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(q)), _mm_load_sd(q + 2), 1);
+  };
+  for (int c = 0; c < 8; ++c) {
+    const __m256d v0 = column(corner[0][c]), v1 = column(corner[1][c]);
+    const __m256d v2 = column(corner[2][c]), v3 = column(corner[3][c]);
+    const __m256d xz01 = _mm256_unpacklo_pd(v0, v1), y01 = _mm256_unpackhi_pd(v0, v1);  // (x0 x1 z0 z1), (y0 y1 0 0)
+    const __m256d xz23 = _mm256_unpacklo_pd(v2, v3), y23 = _mm256_unpackhi_pd(v2, v3);
+    _mm256_store_pd(corners[0][c], _mm256_permute2f128_pd(xz01, xz23, 0x20));
+    _mm256_store_pd(corners[1][c], _mm256_permute2f128_pd(y01, y23, 0x20));
+    _mm256_store_pd(corners[2][c], _mm256_permute2f128_pd(xz01, xz23, 0x31));
   }
+#else
+  for (int lane = 0; lane < kLanes; ++lane) set_cell(lane, positions, corner[lane]);
+#endif
 }
 
 namespace {

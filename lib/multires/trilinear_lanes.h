@@ -30,11 +30,17 @@ struct TrilinearLanes {
     for (int c = 0; c < 8; ++c)
       for (int i = 0; i < 3; ++i) corners[i][c][lane] = positions(i, corner[c]);
   }
+  /// Every lane's cell at once, lane j's corners being the columns corner[j][0..8) of
+  /// `positions`: what set_cell writes, by four-wide stores, which the kernel's four-wide
+  /// loads then read whole (narrow stores of set_cell make them wait for the last one).
+  void set_cells(const Eigen::Matrix3Xd& positions, const std::int32_t corner[kLanes][8]);
   void set_point(int lane, const Eigen::Vector3d& point, const Eigen::Vector3d& start) {
     for (int i = 0; i < 3; ++i) x[i][lane] = point[i], guess[i][lane] = start[i];
   }
   /// Copies lane 0's problem into lanes `from`.. (unused lanes of a last, partial batch).
   void pad(int from);
+  /// pad() of the points and guesses only (set_cells fills every lane's corners).
+  void pad_points(int from);
   Eigen::Vector3d u_of(int lane) const { return {u[0][lane], u[1][lane], u[2][lane]}; }
   /// Writes lane `lane`'s dx_du into J, coefficient by coefficient.
   void get_dx_du(int lane, Eigen::Matrix3d& J) const {
