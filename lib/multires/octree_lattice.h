@@ -319,25 +319,27 @@ private:
   void prelocate(int level, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::uint32_t* ids,
                  const Eigen::Vector3d* t, std::ptrdiff_t n, std::size_t first_new, Located* out, int stride) const;
   struct Tag;
-  /// A moved level's tags for prefetching: its tag_index_, cache_ and jacobians_ arrays
-  /// (jacobians null when the apply carries no normals).
+  /// A moved level and its tags, for the batch apply: its tag_index_, cache_ and jacobians_
+  /// arrays (jacobians null when the apply carries no normals).
   struct TagStream {
+    int level;
     const std::uint32_t* index;
-    const Tag* tags;
-    const Eigen::Matrix3d* jacobians;
+    Tag* tags;
+    Eigen::Matrix3d* jacobians;
   };
   /// The moved levels' streams, in level order.
   std::vector<TagStream> tag_streams(bool with_jacobians) const;
   /// Asks the memory for vertex v's tags (and their Jacobian parts) at every moved level at
   /// once, before apply_vertex reads them one level after another.
   static void prefetch_tags(const std::vector<TagStream>& streams, std::uint32_t v);
-  /// apply_points for vertex v at box coordinates t: its position, and its Jacobian in
-  /// `jacobian` when given (an apply with normals); `located`: its prelocated places by
-  /// level, or null. False when the vertex is in no cell where a level moved (position
-  /// copied, `jacobian` not written); `folded` is set when its Jacobian's determinant is <= 0.
-  bool apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                    Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Matrix3d* jacobian, const Located* located,
-                    bool& folded) const;
+  /// apply_points for vertex v at box coordinates t, through the moved levels' `streams`:
+  /// its position, and its Jacobian in `jacobian` when given (an apply with normals);
+  /// `located`: its prelocated places by level, or null. False when the vertex is in no cell
+  /// where a level moved (position copied, `jacobian` not written); `folded` is set when its
+  /// Jacobian's determinant is <= 0.
+  bool apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, const std::vector<TagStream>& streams,
+                    const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
+                    Eigen::Matrix3d* jacobian, const Located* located, bool& folded) const;
   /// apply(), and apply_without_normals() when in_nrm and out_nrm are null.
   void apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,

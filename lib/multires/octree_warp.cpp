@@ -413,7 +413,7 @@ std::vector<OctreeLattice::TagStream> OctreeLattice::tag_streams(bool with_jacob
   for (int l = 0; l < num_levels(); ++l) {
     if (!moved(l)) continue;
     const auto i = static_cast<std::size_t>(l);
-    streams.push_back({tag_index_[i].data(), cache_[i].data(), with_jacobians ? jacobians_[i].data() : nullptr});
+    streams.push_back({l, tag_index_[i].data(), cache_[i].data(), with_jacobians ? jacobians_[i].data() : nullptr});
   }
   return streams;
 }
@@ -435,9 +435,9 @@ void OctreeLattice::prefetch_tags(const std::vector<TagStream>& streams, std::ui
   }
 }
 
-bool OctreeLattice::apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
-                                 Eigen::Ref<Eigen::Matrix3Xd>& out_pos, Eigen::Matrix3d* jacobian, const Located* located,
-                                 bool& folded) const {
+bool OctreeLattice::apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, const std::vector<TagStream>& streams,
+                                 const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
+                                 Eigen::Matrix3d* jacobian, const Located* located, bool& folded) const {
   const Eigen::Vector3d x = in_pos.col(v);
   // Sums the levels' parts as displacement() does, locating the vertex in a grid level
   // only when its tag is not for this position.
@@ -447,13 +447,12 @@ bool OctreeLattice::apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, cons
   double bound2 = 0;  // without normals: the sum of the parts' squared bounds
   int parts = 0;
   if (in_unit_cube(t, kInsideTolerance))
-    for (int l = 0; l < num_levels(); ++l) {
-      if (!moved(l)) continue;
-      const std::uint32_t index = tag_index_[static_cast<std::size_t>(l)][v];
+    for (const TagStream& s : streams) {  // the moved levels, in level order
+      const std::uint32_t index = s.index[v];
       if (index == 0) continue;  // not in a cell the level marked active: its part is zero
-      Tag& tag = cache_[static_cast<std::size_t>(l)][index - 1];
-      Eigen::Matrix3d* part = jacobian ? &jacobians_[static_cast<std::size_t>(l)][index - 1] : nullptr;
-      if (!tagged_part(l, x, t, same, tag, part, located ? located + l : nullptr)) continue;
+      Tag& tag = s.tags[index - 1];
+      Eigen::Matrix3d* part = jacobian ? s.jacobians + (index - 1) : nullptr;
+      if (!tagged_part(s.level, x, t, same, tag, part, located ? located + s.level : nullptr)) continue;
       d += tag.d;
       if (jacobian)
         J += *part;
@@ -521,7 +520,7 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
         bool fold = false;
         const auto slot = static_cast<std::size_t>(i - begin);
         const Located* found = located.empty() ? nullptr : located.data() + slot * static_cast<std::size_t>(stride);
-        applied[slot] = apply_vertex(ids[static_cast<std::size_t>(i)], t[slot], in_pos, out_pos,
+        applied[slot] = apply_vertex(ids[static_cast<std::size_t>(i)], t[slot], streams, in_pos, out_pos,
                                      out_nrm ? &jacobian[slot] : nullptr, found, fold);
         evaluated += applied[slot];
         folded += fold;
