@@ -493,11 +493,14 @@ TEST(OctreeLattice, TheBatchApplyLocatesAsThePointApplyBitForBit) {
   // from cell to cell where a vertex lies outside the cell of its grid position; the point
   // apply locates one vertex at a time with the scalar inverse_trilinear. After a first
   // move at every level, on lattices with cut cells, shrunk or not, both give every vertex
-  // the same bits, and the batch's counts are the points'.
+  // the same bits, and the batch's counts are the points'. Some walks reach cells whose rest
+  // lattice no move subdivided: the batch parks those vertices, subdivides their cells
+  // together and applies them last (checked to happen, before the point apply).
   BunnyLattice b;
   std::vector<std::uint32_t> ids(static_cast<std::size_t>(b.x.cols()));
   std::iota(ids.begin(), ids.end(), 0u);
   const double size = b.box.axes().colwise().norm().maxCoeff();
+  int walked_on = 0;  // level moves whose batch apply subdivided cells beyond the move's
   for (const double shrink : {-1.0, 0.002}) {
     OctreeOptions o = options(4, 2);
     o.shrink = shrink;
@@ -507,7 +510,9 @@ TEST(OctreeLattice, TheBatchApplyLocatesAsThePointApplyBitForBit) {
       move_one(lattice, level, g.points[g.num_points() / 2], Eigen::Vector3d(0.02, -0.02, 0.01) * size);
       Eigen::Matrix3Xd p(3, b.x.cols());
       WarpCounts counts;
+      const std::size_t ready = lattice.rest_cells_subdivided(level);
       ASSERT_TRUE(lattice.apply_without_normals(b.x, ids, p, counts));
+      walked_on += lattice.rest_cells_subdivided(level) > ready;
       std::size_t differ = 0, folded = 0;
       for (Eigen::Index v = 0; v < b.x.cols(); ++v) {
         Eigen::Matrix3d J;
@@ -519,6 +524,7 @@ TEST(OctreeLattice, TheBatchApplyLocatesAsThePointApplyBitForBit) {
     }
     EXPECT_GT(lattice.vertices_located(), 4u * static_cast<std::size_t>(b.x.cols()));
   }
+  EXPECT_GT(walked_on, 0) << "no walk reached a cell the moves left unsubdivided";
 }
 
 TEST(OctreeLattice, LocalSubdivisionAgreesWithSubdividingTheWholeLevel) {

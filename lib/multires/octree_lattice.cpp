@@ -184,10 +184,11 @@ OctreeMove OctreeLattice::move_level_points(int l, const std::vector<std::int32_
   update_displacements(l, ids, change, report);
   mark_changed(l, ids, report);
   // The marked cells, where the apply locates vertices. A locate that walks out of them
-  // (bent cells near cuts and shrunk points) subdivides the cell it walks into then
-  // (ready_cell). Subdividing a ring more here in advance cost more than those few cells
-  // (blob39k, level 4's first move: 134 cells in 7.1 ms, against 69 cells in 3.3 ms and
-  // eleven single cells walked into, 0.1-0.2 ms each).
+  // (bent cells near cuts and shrunk points) needs the cell it walks into: the batch apply
+  // subdivides those together once its other vertices are done (apply_points), a single
+  // locate the one cell (ready_cell). Subdividing a ring more here in advance cost more
+  // than those few cells (blob39k, level 4's first move: 134 cells in 7.1 ms, against 69
+  // cells in 3.3 ms and eleven single cells walked into, 0.1-0.2 ms each).
   ensure_rest(l, marked_cells(level.sub[0], ids));
   level.moved = true;
   any_changed_ = any_changed_ || !ids.empty();

@@ -309,15 +309,27 @@ private:
   };
   /// The cell of C^k (grid level `level`) at grid cell `c` of its resolution, its rest
   /// lattice subdivided there, and the guess of x's coordinates in it from box coordinates
-  /// t (exact on a regular grid); -1 when C^k has no such cell.
-  std::int32_t ready_cell(int level, int k, const GridIndex& c, const Eigen::Vector3d& t, Eigen::Vector3d& guess) const;
+  /// t (exact on a regular grid); -1 when C^k has no such cell. Where its level cell's rest
+  /// lattice is not subdivided yet: subdivided first, or, without `subdivide`, kUnready.
+  std::int32_t ready_cell(int level, int k, const GridIndex& c, const Eigen::Vector3d& t, Eigen::Vector3d& guess,
+                          bool subdivide = true) const;
+  static constexpr std::int32_t kUnready = -2;
   /// For the vertices ids[0..n), at box coordinates t[0..n), whose tag at grid level `level`
   /// is new (index >= first_new), locate()'s tries at the finest step (the vertex's grid
   /// cell, then the walk from it), solved four at a time: out[i * stride] says where the
   /// vertex lies if they find it (found), and is not found otherwise (locate() then starts
   /// again).
+  /// A block's vertices whose walk reached a level cell whose rest lattice is not
+  /// subdivided yet (parked[i], by vertex of the block), and those cells, by level.
+  struct Parking {
+    std::vector<std::uint8_t> parked;
+    std::vector<std::pair<int, GridIndex>> cells;
+  };
+  /// With `parking`, a walk into such a cell parks its vertex there (left not found)
+  /// instead of subdividing the cell on the spot.
   void prelocate(int level, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::uint32_t* ids,
-                 const Eigen::Vector3d* t, std::ptrdiff_t n, std::size_t first_new, Located* out, int stride) const;
+                 const Eigen::Vector3d* t, std::ptrdiff_t n, std::size_t first_new, Located* out, int stride,
+                 Parking* parking = nullptr) const;
   struct Tag;
   /// A moved level and its tags, for the batch apply: its tag_index_, cache_ and jacobians_
   /// arrays (jacobians null when the apply carries no normals).
@@ -340,6 +352,19 @@ private:
   bool apply_vertex(std::uint32_t v, const Eigen::Vector3d& t, const std::vector<TagStream>& streams,
                     const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, Eigen::Ref<Eigen::Matrix3Xd>& out_pos,
                     Eigen::Matrix3d* jacobian, const Located* located, bool& folded) const;
+  /// What apply_points sets up for its passes over the vertices: per level, the index of
+  /// its first new tag; the levels that locate new tags; the moved levels' tag streams.
+  struct BatchApply {
+    std::vector<std::size_t> first_new;
+    std::vector<int> locating;
+    std::vector<TagStream> streams;
+  };
+  /// apply_points' pass over `ids`, block by block; with `parked`, vertices that prelocate
+  /// parks are left alone and appended to it, and the cells that parked them to `cells`.
+  void apply_blocks(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
+                    const std::vector<std::uint32_t>& ids, const BatchApply& batch, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                    Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts, std::vector<std::uint32_t>* parked,
+                    std::vector<std::pair<int, GridIndex>>* cells) const;
   /// apply(), and apply_without_normals() when in_nrm and out_nrm are null.
   void apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,

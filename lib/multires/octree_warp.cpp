@@ -108,19 +108,22 @@ bool OctreeLattice::locate(int l, const Eigen::Vector3d& x, const Eigen::Vector3
 }
 
 std::int32_t OctreeLattice::ready_cell(int l, int k, const GridIndex& c, const Eigen::Vector3d& t,
-                                       Eigen::Vector3d& guess) const {
+                                       Eigen::Vector3d& guess, bool subdivide) const {
   const StepGrid g = levels_[l].step_grid(k);
   const std::int32_t cell = g.cell(c[0], c[1], c[2]);
   if (cell < 0) return cell;
   const GridIndex coarse{c[0] >> k, c[1] >> k, c[2] >> k};  // the level's cell holding it
-  if (k > 0 && !rest_ready(l, coarse)) ensure_rest(l, {coarse});
+  if (k > 0 && !rest_ready(l, coarse)) {
+    if (!subdivide) return kUnready;
+    ensure_rest(l, {coarse});
+  }
   guess = (t * g.resolution() - Eigen::Vector3d(c[0], c[1], c[2])).cwiseMax(0.0).cwiseMin(1.0);
   return cell;
 }
 
 void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::uint32_t* ids,
                               const Eigen::Vector3d* t, std::ptrdiff_t n, std::size_t first_new, Located* out,
-                              int stride) const {
+                              int stride, Parking* parking) const {
   const Level& level = levels_[l];
   const int k = static_cast<int>(level.fine.size()) - 1;  // locate()'s first try: the finest step
   const StepGrid g = level.step_grid(k);
@@ -166,7 +169,13 @@ void OctreeLattice::prelocate(int l, const Eigen::Ref<const Eigen::Matrix3Xd>& i
   };
   const auto attempt = [&](const Walk& walk) {
     Eigen::Vector3d guess;
-    const std::int32_t cell = ready_cell(l, k, walk.cell, t[walk.i], guess);
+    const std::int32_t cell = ready_cell(l, k, walk.cell, t[walk.i], guess, parking == nullptr);
+    if (cell == kUnready) {  // a level cell no move subdivided: the vertex waits for it
+      const GridIndex& c = walk.cell;
+      parking->parked[static_cast<std::size_t>(walk.i)] = 1;
+      parking->cells.push_back({l, {c[0] >> k, c[1] >> k, c[2] >> k}});
+      return;
+    }
     if (cell < 0) return;
     g.corners(cell, lane_corners[used]);
     lanes.set_point(used, in_pos.col(ids[walk.i]), guess);
@@ -480,18 +489,42 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
                                  Eigen::Ref<Eigen::Matrix3Xd> out_pos, Eigen::Ref<Eigen::Matrix3Xd>* out_nrm,
                                  WarpCounts& counts) const {
   size_cache(in_pos.cols());
-  const std::vector<std::size_t> first_new = assign_tags(in_pos, ids, out_nrm != nullptr);
+  BatchApply batch;
+  batch.first_new = assign_tags(in_pos, ids, out_nrm != nullptr);
   // The grid levels with new tags (a level's first move, or vertices newly in its marked
   // cells): each block of vertices locates them there four at a time before applying. A
   // whole grid without shrinking too, where a locate is mostly one evaluation: since the
   // lanes' cells are gathered four at once (set_cells), its first moves are 11-12% faster
   // through the lanes than one vertex at a time (elephant, levels 0 and 1).
-  std::vector<int> locating;
   for (int l = 0; l < num_grid_levels(); ++l)
-    if (moved(l) && cache_[static_cast<std::size_t>(l)].size() > first_new[static_cast<std::size_t>(l)])
-      locating.push_back(l);
+    if (moved(l) && cache_[static_cast<std::size_t>(l)].size() > batch.first_new[static_cast<std::size_t>(l)])
+      batch.locating.push_back(l);
+  batch.streams = tag_streams(out_nrm != nullptr);
+  // A walk that reaches a level cell whose rest lattice no move subdivided parks its
+  // vertex: those cells are subdivided together, in one ensure_rest per level, and the
+  // parked vertices applied after the others, as they would have been (blob39k's level 2:
+  // 12 calls of one cell each, 10% of its first move, became one).
+  std::vector<std::uint32_t> parked;
+  std::vector<std::pair<int, GridIndex>> cells;
+  apply_blocks(in_pos, in_nrm, ids, batch, out_pos, out_nrm, counts, &parked, &cells);
+  if (parked.empty()) return;
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  for (std::size_t from = 0, to = 0; from < cells.size(); from = to) {
+    std::vector<GridIndex> level_cells;
+    for (to = from; to < cells.size() && cells[to].first == cells[from].first; ++to) level_cells.push_back(cells[to].second);
+    ensure_rest(cells[from].first, level_cells);
+  }
+  std::sort(parked.begin(), parked.end());
+  apply_blocks(in_pos, in_nrm, parked, batch, out_pos, out_nrm, counts, nullptr, nullptr);
+}
+
+void OctreeLattice::apply_blocks(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
+                                 const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, const std::vector<std::uint32_t>& ids,
+                                 const BatchApply& batch, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
+                                 Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts,
+                                 std::vector<std::uint32_t>* parked, std::vector<std::pair<int, GridIndex>>* cells) const {
   const int stride = num_levels();
-  const std::vector<TagStream> streams = tag_streams(out_nrm != nullptr);
   std::size_t folded = 0, evaluated = 0;
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size()), blocks = (n + kBlock - 1) / kBlock;
 #pragma omp parallel reduction(+ : folded, evaluated)
@@ -499,7 +532,7 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     // By vertex of the block and level, empty when no level locates. Only the levels in
     // `locating` write their entries; the others' stay not found, so a tag of theirs that
     // needs a locate (its vertex moved) gets the scalar one.
-    std::vector<Located> located(locating.empty() ? 0 : static_cast<std::size_t>(kBlock * stride));
+    std::vector<Located> located(batch.locating.empty() ? 0 : static_cast<std::size_t>(kBlock * stride));
     std::vector<Eigen::Vector3d> t(static_cast<std::size_t>(kBlock));  // box coordinates, computed once
     // With normals, each vertex's Jacobian, and whether a level moved it (else its normal
     // is copied): the normals are transformed after the block's vertices, when the stores
@@ -507,28 +540,44 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     // waited for the stores to reach the cache).
     std::vector<Eigen::Matrix3d> jacobian(out_nrm ? static_cast<std::size_t>(kBlock) : 0);
     std::vector<std::uint8_t> applied(static_cast<std::size_t>(kBlock));
+    Parking parking;  // this thread's parked vertices (global indices) and cells
+    std::vector<std::uint32_t> my_parked;
+    parking.parked.resize(static_cast<std::size_t>(kBlock));
 #pragma omp for schedule(static)
     for (std::ptrdiff_t b = 0; b < blocks; ++b) {
       const std::ptrdiff_t begin = b * kBlock, end = std::min(n, begin + kBlock);
       for (std::ptrdiff_t i = begin; i < end; ++i)
         t[static_cast<std::size_t>(i - begin)] = box_coordinates(box_, in_pos.col(ids[static_cast<std::size_t>(i)]));
-      for (const int l : locating)
-        prelocate(l, in_pos, ids.data() + begin, t.data(), end - begin, first_new[static_cast<std::size_t>(l)],
-                  located.data() + l, stride);
+      std::fill(parking.parked.begin(), parking.parked.end(), 0);
+      for (const int l : batch.locating)
+        prelocate(l, in_pos, ids.data() + begin, t.data(), end - begin, batch.first_new[static_cast<std::size_t>(l)],
+                  located.data() + l, stride, parked ? &parking : nullptr);
       for (std::ptrdiff_t i = begin; i < end; ++i) {
-        if (i + kPrefetchAhead < n) prefetch_tags(streams, ids[static_cast<std::size_t>(i + kPrefetchAhead)]);
-        bool fold = false;
+        if (i + kPrefetchAhead < n) prefetch_tags(batch.streams, ids[static_cast<std::size_t>(i + kPrefetchAhead)]);
         const auto slot = static_cast<std::size_t>(i - begin);
+        if (parking.parked[slot]) {
+          my_parked.push_back(ids[static_cast<std::size_t>(i)]);
+          continue;
+        }
+        bool fold = false;
         const Located* found = located.empty() ? nullptr : located.data() + slot * static_cast<std::size_t>(stride);
-        applied[slot] = apply_vertex(ids[static_cast<std::size_t>(i)], t[slot], streams, in_pos, out_pos,
+        applied[slot] = apply_vertex(ids[static_cast<std::size_t>(i)], t[slot], batch.streams, in_pos, out_pos,
                                      out_nrm ? &jacobian[slot] : nullptr, found, fold);
         evaluated += applied[slot];
         folded += fold;
       }
       for (std::ptrdiff_t i = begin; out_nrm && i < end; ++i) {
         const auto slot = static_cast<std::size_t>(i - begin);
+        if (parking.parked[slot]) continue;
         const std::uint32_t v = ids[static_cast<std::size_t>(i)];
         out_nrm->col(v) = applied[slot] ? normal_through(jacobian[slot], in_nrm->col(v)) : Eigen::Vector3d(in_nrm->col(v));
+      }
+    }
+    if (parked && (!my_parked.empty() || !parking.cells.empty())) {
+#pragma omp critical(ffd_octree_parked)
+      {
+        parked->insert(parked->end(), my_parked.begin(), my_parked.end());
+        cells->insert(cells->end(), parking.cells.begin(), parking.cells.end());
       }
     }
   }
