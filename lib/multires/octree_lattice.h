@@ -30,9 +30,10 @@
 // Points outside every cell of every moved level are never changed, bit for bit. The rest
 // lattice's subdivisions C^k(R_l) are local too: a level of more than kBuiltLevelCells
 // cells builds no C^k topology (StepGrid implies it from the level's grid), and a level's
-// first move subdivides the rest positions only in the cells it marks (and, on demand,
-// where locating a vertex walks), into fields that stay untouched memory elsewhere, so a
-// first move costs about what a later one does.
+// first move subdivides the rest positions only in the cells it marks (and the cells
+// where locating a vertex walks, which the batch apply subdivides together after its
+// other vertices), into fields that stay untouched memory elsewhere, so a first move
+// costs about what a later one does.
 //
 // Local subdivision (section 2.2, Figure 3): subdivide() adds a level made of chosen cells
 // of a level split by the octree rules (a SubdividedLevel, of general topology), shown
