@@ -315,19 +315,18 @@ private:
   std::int32_t ready_cell(int level, int k, const GridIndex& c, const Eigen::Vector3d& t, Eigen::Vector3d& guess,
                           bool subdivide = true) const;
   static constexpr std::int32_t kUnready = -2;
-  /// For the vertices ids[0..n), at box coordinates t[0..n), whose tag at grid level `level`
-  /// is new (index >= first_new), locate()'s tries at the finest step (the vertex's grid
-  /// cell, then the walk from it), solved four at a time: out[i * stride] says where the
-  /// vertex lies if they find it (found), and is not found otherwise (locate() then starts
-  /// again).
   /// A block's vertices whose walk reached a level cell whose rest lattice is not
   /// subdivided yet (parked[i], by vertex of the block), and those cells, by level.
   struct Parking {
     std::vector<std::uint8_t> parked;
     std::vector<std::pair<int, GridIndex>> cells;
   };
-  /// With `parking`, a walk into such a cell parks its vertex there (left not found)
-  /// instead of subdividing the cell on the spot.
+  /// For the vertices ids[0..n), at box coordinates t[0..n), whose tag at grid level `level`
+  /// is new (index >= first_new), locate()'s tries at the finest step (the vertex's grid
+  /// cell, then the walk from it), solved four at a time: out[i * stride] says where the
+  /// vertex lies if they find it (found), and is not found otherwise (locate() then starts
+  /// again). With `parking`, a walk into a cell whose rest lattice is not subdivided yet
+  /// parks its vertex (left not found) instead of subdividing the cell on the spot.
   void prelocate(int level, const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const std::uint32_t* ids,
                  const Eigen::Vector3d* t, std::ptrdiff_t n, std::size_t first_new, Located* out, int stride,
                  Parking* parking = nullptr) const;
