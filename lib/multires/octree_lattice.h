@@ -315,10 +315,12 @@ private:
   std::int32_t ready_cell(int level, int k, const GridIndex& c, const Eigen::Vector3d& t, Eigen::Vector3d& guess,
                           bool subdivide = true) const;
   static constexpr std::int32_t kUnready = -2;
-  /// A block's vertices whose walk reached a level cell whose rest lattice is not
-  /// subdivided yet (parked[i], by vertex of the block), and those cells, by level.
+  /// Vertices whose walk reached a level cell whose rest lattice is not subdivided yet:
+  /// parked[i] by vertex of the block prelocate is given, and, kept over the blocks, the
+  /// vertices (indices into the mesh) and those cells, by level.
   struct Parking {
     std::vector<std::uint8_t> parked;
+    std::vector<std::uint32_t> vertices;
     std::vector<std::pair<int, GridIndex>> cells;
   };
   /// For the vertices ids[0..n), at box coordinates t[0..n), whose tag at grid level `level`
@@ -360,11 +362,11 @@ private:
     std::vector<TagStream> streams;
   };
   /// apply_points' pass over `ids`, block by block; with `parked`, vertices that prelocate
-  /// parks are left alone and appended to it, and the cells that parked them to `cells`.
+  /// parks are left alone and appended to its vertices, and the cells that parked them to
+  /// its cells.
   void apply_blocks(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                     const std::vector<std::uint32_t>& ids, const BatchApply& batch, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
-                    Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts, std::vector<std::uint32_t>* parked,
-                    std::vector<std::pair<int, GridIndex>>* cells) const;
+                    Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts, Parking* parked) const;
   /// apply(), and apply_without_normals() when in_nrm and out_nrm are null.
   void apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos, const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm,
                     const std::vector<std::uint32_t>& ids, Eigen::Ref<Eigen::Matrix3Xd> out_pos,

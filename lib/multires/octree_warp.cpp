@@ -504,10 +504,10 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
   // vertex: those cells are subdivided together, in one ensure_rest per level, and the
   // parked vertices applied after the others, as they would have been (blob39k's level 2:
   // 12 calls of one cell each, 10% of its first move, became one).
-  std::vector<std::uint32_t> parked;
-  std::vector<std::pair<int, GridIndex>> cells;
-  apply_blocks(in_pos, in_nrm, ids, batch, out_pos, out_nrm, counts, &parked, &cells);
-  if (parked.empty()) return;
+  Parking parked;
+  apply_blocks(in_pos, in_nrm, ids, batch, out_pos, out_nrm, counts, &parked);
+  if (parked.vertices.empty()) return;
+  std::vector<std::pair<int, GridIndex>>& cells = parked.cells;
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   for (std::size_t from = 0, to = 0; from < cells.size(); from = to) {
@@ -515,15 +515,14 @@ void OctreeLattice::apply_points(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     for (to = from; to < cells.size() && cells[to].first == cells[from].first; ++to) level_cells.push_back(cells[to].second);
     ensure_rest(cells[from].first, level_cells);
   }
-  std::sort(parked.begin(), parked.end());
-  apply_blocks(in_pos, in_nrm, parked, batch, out_pos, out_nrm, counts, nullptr, nullptr);
+  std::sort(parked.vertices.begin(), parked.vertices.end());
+  apply_blocks(in_pos, in_nrm, parked.vertices, batch, out_pos, out_nrm, counts, nullptr);
 }
 
 void OctreeLattice::apply_blocks(const Eigen::Ref<const Eigen::Matrix3Xd>& in_pos,
                                  const Eigen::Ref<const Eigen::Matrix3Xd>* in_nrm, const std::vector<std::uint32_t>& ids,
                                  const BatchApply& batch, Eigen::Ref<Eigen::Matrix3Xd> out_pos,
-                                 Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts,
-                                 std::vector<std::uint32_t>* parked, std::vector<std::pair<int, GridIndex>>* cells) const {
+                                 Eigen::Ref<Eigen::Matrix3Xd>* out_nrm, WarpCounts& counts, Parking* parked) const {
   const int stride = num_levels();
   std::size_t folded = 0, evaluated = 0;
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(ids.size()), blocks = (n + kBlock - 1) / kBlock;
@@ -540,8 +539,7 @@ void OctreeLattice::apply_blocks(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
     // waited for the stores to reach the cache).
     std::vector<Eigen::Matrix3d> jacobian(out_nrm ? static_cast<std::size_t>(kBlock) : 0);
     std::vector<std::uint8_t> applied(static_cast<std::size_t>(kBlock));
-    Parking parking;  // this thread's parked vertices (global indices) and cells
-    std::vector<std::uint32_t> my_parked;
+    Parking parking;  // this thread's
     parking.parked.resize(static_cast<std::size_t>(kBlock));
 #pragma omp for schedule(static)
     for (std::ptrdiff_t b = 0; b < blocks; ++b) {
@@ -556,7 +554,7 @@ void OctreeLattice::apply_blocks(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
         if (i + kPrefetchAhead < n) prefetch_tags(batch.streams, ids[static_cast<std::size_t>(i + kPrefetchAhead)]);
         const auto slot = static_cast<std::size_t>(i - begin);
         if (parking.parked[slot]) {
-          my_parked.push_back(ids[static_cast<std::size_t>(i)]);
+          parking.vertices.push_back(ids[static_cast<std::size_t>(i)]);
           continue;
         }
         bool fold = false;
@@ -573,11 +571,11 @@ void OctreeLattice::apply_blocks(const Eigen::Ref<const Eigen::Matrix3Xd>& in_po
         out_nrm->col(v) = applied[slot] ? normal_through(jacobian[slot], in_nrm->col(v)) : Eigen::Vector3d(in_nrm->col(v));
       }
     }
-    if (parked && (!my_parked.empty() || !parking.cells.empty())) {
+    if (parked && !parking.vertices.empty()) {
 #pragma omp critical(ffd_octree_parked)
       {
-        parked->insert(parked->end(), my_parked.begin(), my_parked.end());
-        cells->insert(cells->end(), parking.cells.begin(), parking.cells.end());
+        parked->vertices.insert(parked->vertices.end(), parking.vertices.begin(), parking.vertices.end());
+        parked->cells.insert(parked->cells.end(), parking.cells.begin(), parking.cells.end());
       }
     }
   }
