@@ -35,6 +35,10 @@ struct VertexFileNormals {
 };
 VertexFileNormals vertex_file_normals(const Mesh& mesh, const NormalTransform& transform);
 
+/// Whether vertex_file_normals finds a file normal at every vertex, so that a writer of
+/// one normal per vertex (OFF, PLY) never falls back to the mesh's computed normals.
+bool every_vertex_has_file_normal(const Mesh& mesh);
+
 /// Replaces the mesh's file normals by their transformed values (a bake).
 void bake_file_normals(Mesh& mesh, const NormalTransform& transform);
 
