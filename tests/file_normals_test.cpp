@@ -4,6 +4,9 @@
 //   table, bit for bit, and the same entry at every corner, on a grid whose corners mix
 //   smooth, flat-shaded, shared and missing normals, for transforms that give every vertex
 //   its own normal, merge some, return -0 and 0, or NaN; on one thread and two.
+// - Runs (lib/script/runner.cpp): file normals at every vertex are written the same when
+//   the run computes no vertex normals as when a step makes it compute them; where they
+//   miss vertices, a PLY still gets the computed normals there.
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -14,8 +17,11 @@
 #include <limits>
 #include <map>
 
+#include "common/numbers.h"
 #include "mesh/build_mesh.h"
 #include "mesh/file_normals.h"
+#include "mesh/mesh_io.h"
+#include "script/runner.h"
 #include "test_meshes.h"
 
 namespace ffd {
@@ -138,6 +144,78 @@ TEST(TransformedFileNormals, EveryVertexHasOneOnlyWhenNoVertexIsMissed) {
     if (soup.elements.corner_normals[c] < 0) soup.elements.corner_normals[c] = static_cast<std::int32_t>(soup.elements.corners[c]);
   EXPECT_TRUE(every_vertex_has_file_normal(build_mesh(soup, "grid.obj")));
   EXPECT_FALSE(every_vertex_has_file_normal(test::grid_mesh(4)));
+}
+
+std::string mixed_grid_obj(const PolygonSoup& soup) {
+  std::string text;
+  for (const Eigen::Vector3d& p : soup.positions) {
+    text += "v";
+    for (int a = 0; a < 3; ++a) text += " ", append_number(text, p[a]);
+    text += "\n";
+  }
+  for (const Eigen::Vector3d& n : soup.normals) {
+    text += "vn";
+    for (int a = 0; a < 3; ++a) text += " ", append_number(text, n[a]);
+    text += "\n";
+  }
+  for (const test::SoupFace& f : test::soup_faces(soup)) {
+    text += "f";
+    for (std::size_t c = 0; c < f.vertices.size(); ++c)
+      text += " " + std::to_string(f.vertices[c] + 1) + (f.normals.empty() ? "" : "//" + std::to_string(f.normals[c] + 1));
+    text += "\n";
+  }
+  return text;
+}
+
+// Runs `steps` on DIR/in.obj into DIR/NAME.EXT; returns the file's bytes.
+std::string run_file_normals(const std::string& dir, const std::string& name, const std::string& ext, const std::string& steps) {
+  test::write_file(dir + "/" + name + ".json", test::script_with(steps));
+  RunOptions options;
+  options.mesh = dir + "/in.obj";
+  options.script = dir + "/" + name + ".json";
+  options.output = dir + "/" + name + "." + ext;
+  options.quiet = true;
+  run_script(options);
+  return test::read_file(options.output);
+}
+
+constexpr const char* kFileNormalMove = R"({"op": "lattice", "name": "l", "cells": [4, 4, 4]},
+  {"op": "move", "lattice": "l", "points": [{"index": [2, 2, 2], "by": [0.05, -0.03, 0.1]}]})";
+// The same, and a glTF saved on the way: glTF holds vertex normals, so this run computes them.
+constexpr const char* kFileNormalMoveWithNormals = R"({"op": "lattice", "name": "l", "cells": [4, 4, 4]},
+  {"op": "move", "lattice": "l", "points": [{"index": [2, 2, 2], "by": [0.05, -0.03, 0.1]}]},
+  {"op": "save", "path": "normals.glb"})";
+
+TEST(FileNormalRuns, AtEveryVertexTheyAreWrittenAsWhenTheRunComputesVertexNormals) {
+  PolygonSoup soup = mixed_normals_grid(16);
+  for (std::size_t c = 0; c < soup.elements.corner_normals.size(); ++c)
+    if (soup.elements.corner_normals[c] < 0) soup.elements.corner_normals[c] = static_cast<std::int32_t>(soup.elements.corners[c]);
+  const std::string dir = test::temp_folder("file_normal_runs_all");
+  test::write_file(dir + "/in.obj", mixed_grid_obj(soup));
+  for (const char* ext : {"obj", "off", "ply"}) {
+    const std::string deferred = run_file_normals(dir, "deferred", ext, kFileNormalMove);
+    EXPECT_EQ(deferred, run_file_normals(dir, "computed", ext, kFileNormalMoveWithNormals)) << ext;
+    EXPECT_NE(deferred, run_file_normals(dir, "unmoved", ext, R"({"op": "lattice", "name": "l", "cells": [4, 4, 4]})")) << ext;
+  }
+}
+
+TEST(FileNormalRuns, WhereTheyMissVerticesAPlyGetsTheComputedNormalsThere) {
+  const PolygonSoup soup = mixed_normals_grid(16);
+  const std::string dir = test::temp_folder("file_normal_runs_some");
+  test::write_file(dir + "/in.obj", mixed_grid_obj(soup));
+  const std::string plain = run_file_normals(dir, "plain", "ply", kFileNormalMove);
+  EXPECT_EQ(plain, run_file_normals(dir, "computed", "ply", kFileNormalMoveWithNormals));
+  const Mesh out = read_mesh(dir + "/plain.ply");
+  std::vector<char> has(soup.positions.size(), 0);
+  for (std::size_t c = 0; c < soup.elements.corners.size(); ++c)
+    if (soup.elements.corner_normals[c] >= 0) has[soup.elements.corners[c]] = 1;
+  std::size_t missed = 0;
+  for (std::size_t v = 0; v < has.size(); ++v) {
+    if (has[v]) continue;
+    ++missed;
+    EXPECT_NEAR(out.file_normals()[v].norm(), 1.0, 1e-6) << "vertex " << v;  // PLY stores floats
+  }
+  EXPECT_GT(missed, 0u);
 }
 
 }  // namespace

@@ -57,7 +57,6 @@ void check_elements(const PolygonSoup& soup, const std::string& file) {
 
 Mesh build_mesh(PolygonSoup soup, const std::string& file, bool defer_normals) {
   check_elements(soup, file);
-  const bool normals = !defer_normals || !soup.normals.empty();  // writers fill in file normals from them
   Mesh mesh;
   mesh.set_source(file);
   mesh.set_source_binary(soup.binary);
@@ -81,7 +80,7 @@ Mesh build_mesh(PolygonSoup soup, const std::string& file, bool defer_normals) {
   mesh.file_normal_count = mesh.file_normals().size();
   mesh.file_normals_per_vertex = soup.normals_per_vertex;
   mesh.set_elements(std::move(soup.elements));
-  mesh.set_vertices(std::move(positions), normals);
+  mesh.set_vertices(std::move(positions), !defer_normals);
   return mesh;
 }
 

@@ -11,6 +11,7 @@
 #include "common/errors.h"
 #include "common/numbers.h"
 #include "common/timer.h"
+#include "mesh/file_normals.h"
 #include "mesh/mesh_io.h"
 #include "render/png_io.h"
 #include "script/output_files.h"
@@ -73,11 +74,15 @@ void check_outputs(const RunOptions& options, const Script& script, const std::s
   check_step_outputs(script, output_folder, options.mesh);
 }
 
-// Whether the run reads or writes vertex normals: a step that does, a preview, or a glTF
-// output (it holds normals whatever the input had).
-bool needs_vertex_normals(const Script& script, const RunOptions& options) {
+// Whether the run reads or writes vertex normals: a step that does, a preview, a glTF
+// output (it holds normals whatever the input had), or file normals that miss a vertex
+// (an OFF or PLY writer fills it in from the computed ones). File normals at every
+// vertex are carried by the writers themselves, through the warps' Jacobians: a 44k-vertex
+// OBJ with one vn per vertex no longer computes and moves normals it never writes.
+bool needs_vertex_normals(const Script& script, const RunOptions& options, const Mesh& mesh) {
   const MeshFormat format = mesh_format(options.output);
   if (!options.preview.empty() || format == MeshFormat::Gltf || format == MeshFormat::Glb) return true;
+  if (mesh.has_file_normals() && !every_vertex_has_file_normal(mesh)) return true;
   return std::any_of(script.steps.begin(), script.steps.end(),
                      [](const auto& step) { return step->needs_vertex_normals(); });
 }
@@ -212,7 +217,7 @@ nlohmann::ordered_json run_script(const RunOptions& options) {
 
   Stopwatch read_clock;
   scene.mesh = read_mesh(options.mesh, /*defer_normals=*/true);
-  if (needs_vertex_normals(script, options)) scene.mesh.compute_deferred_normals();
+  if (needs_vertex_normals(script, options, scene.mesh)) scene.mesh.compute_deferred_normals();
   check_writable(scene.mesh, mesh_format(options.output), options.output);  // before any work
   nlohmann::ordered_json stats = input_stats(options.mesh, options.script, scene.mesh, read_clock.ms());
 #ifndef NDEBUG
