@@ -384,10 +384,12 @@ private:
                    Eigen::Matrix3d* jacobian, const Located* located = nullptr) const;
   /// The level's part of F(x) - x at a located tag, and `jacobian` gains its part of
   /// dF/dx - I when given: the grid or local level's displacement at the tag's place.
-  Eigen::Vector3d part_at(int level, const Tag& tag, Eigen::Matrix3d* jacobian) const;
+  /// `corner`: a grid level's cell's eight point indices when the caller has them (the
+  /// prelocated cell's), else looked up.
+  Eigen::Vector3d part_at(int level, const Tag& tag, Eigen::Matrix3d* jacobian, const std::int32_t* corner = nullptr) const;
   /// tag.d, and tag.bound2 from the Jacobian part itself, which `jacobian` receives when
   /// given (the part computed exactly, not bounded from the locate).
-  void exact_part(int level, Tag& tag, Eigen::Matrix3d* jacobian) const;
+  void exact_part(int level, Tag& tag, Eigen::Matrix3d* jacobian, const std::int32_t* corner = nullptr) const;
   /// The level's part of dF/dx - I at a located tag, computed again.
   Eigen::Matrix3d jacobian_part(int level, const Tag& tag) const;
   /// Whether I + the sum of the levels' Jacobian parts at vertex v (those of its tags whose

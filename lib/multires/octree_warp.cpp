@@ -288,22 +288,24 @@ bool OctreeLattice::tagged_grid_part(int l, const Eigen::Vector3d& x, const Eige
     if (bound2 > kTightenAbove * kTightenAbove) tag.bound2 = static_cast<float>(jacobian_part(l, tag).squaredNorm());
     return true;
   }
-  exact_part(l, tag, jacobian);
+  exact_part(l, tag, jacobian, corner);  // the prelocated cell's corners, when located here
   return true;
 }
 
-[[gnu::always_inline]] inline Eigen::Vector3d OctreeLattice::part_at(int l, const Tag& tag, Eigen::Matrix3d* jacobian) const {
-  if (!is_local(l)) return displacement(l, Location{tag.step, tag.cell, tag.u}, jacobian);
+[[gnu::always_inline]] inline Eigen::Vector3d OctreeLattice::part_at(int l, const Tag& tag, Eigen::Matrix3d* jacobian,
+                                                                      const std::int32_t* corner) const {
+  if (!is_local(l)) return displacement(l, Location{tag.step, tag.cell, tag.u}, jacobian, nullptr, nullptr, corner);
   const Eigen::Vector4d lambda(1 - tag.u.sum(), tag.u[0], tag.u[1], tag.u[2]);
   const std::int32_t face = local(l).face_at(tag.step, tag.cell, tag.face);
   return local(l).displacement({tag.step, tag.cell, face, tag.slot, lambda}, jacobian);
 }
 
-[[gnu::always_inline]] inline void OctreeLattice::exact_part(int l, Tag& tag, Eigen::Matrix3d* jacobian) const {
+[[gnu::always_inline]] inline void OctreeLattice::exact_part(int l, Tag& tag, Eigen::Matrix3d* jacobian,
+                                                              const std::int32_t* corner) const {
   Eigen::Matrix3d part;  // where the part goes: the caller's, or here to bound it
   Eigen::Matrix3d& J = jacobian ? *jacobian : part;
   J.setZero();
-  tag.d = part_at(l, tag, &J);
+  tag.d = part_at(l, tag, &J, corner);
   tag.bound2 = static_cast<float>(J.squaredNorm());
 }
 
