@@ -24,6 +24,7 @@
 #include "mesh/build_mesh.h"
 #include "mesh/mesh_io.h"
 #include "mesh/ply_io.h"
+#include "mesh/ply_source.h"
 #include "mesh/stl_io.h"
 #include "test_meshes.h"
 
@@ -190,6 +191,68 @@ TEST(PlyReader, BinaryInBothEndiannessesEqualsAscii) {
   std::string head = crlf.substr(0, end), body = crlf.substr(end), fixed;
   for (char c : head) fixed += c == '\n' ? std::string("\r\n") : std::string(1, c);
   expect_same_soup(read_ply(fixed + body, "t.ply"), ascii);
+}
+
+// A face element whose only property is its index list, `list COUNT INDEX vertex_indices`
+// (binary files read those faces straight from the bytes, read_binary_face): a sheet of
+// 5 x 4 vertices with normals and UVs, its faces triangles, quads, one of 20 corners (past
+// what the direct read takes) and one that repeats its first vertex.
+std::string index_list_ply(const std::string& format, const std::string& count_type, const std::string& index_type) {
+  std::vector<std::vector<std::uint32_t>> faces = {{0, 1, 6}, {0, 6, 5}, {1, 2, 7, 6}, {2, 3, 8}, {2, 8, 7}, {3, 4, 9, 8}};
+  faces.push_back({5, 6, 11, 10, 5});
+  std::vector<std::uint32_t> big;
+  for (std::uint32_t v = 10; v < 20; ++v) big.push_back(v);
+  for (std::uint32_t v = 19; v >= 10; --v) big.push_back(v);  // 20 corners
+  faces.push_back(big);
+  std::string out = "ply\nformat " + format + " 1.0\nelement vertex 20\n";
+  for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "u", "v"}) out += std::string("property float ") + name + "\n";
+  out += "element face " + std::to_string(faces.size()) + "\nproperty list " + count_type + " " + index_type +
+         " vertex_indices\nend_header\n";
+  const bool ascii = format == "ascii", big_endian = format == "binary_big_endian";
+  std::ostringstream os;
+  os.precision(9);
+  for (int v = 0; v < 20; ++v) {
+    const float values[8] = {static_cast<float>(v % 5), static_cast<float>(v / 5), 0.25f * static_cast<float>(v % 3),
+                             0, 0, 1, 0.2f * static_cast<float>(v % 5), 0.25f * static_cast<float>(v / 5)};
+    for (float x : values) {
+      if (ascii) os << x << ' ';
+      else put(out, x, big_endian);
+    }
+    if (ascii) os << '\n';
+  }
+  for (const auto& f : faces) {
+    if (ascii) os << f.size();
+    else if (count_type == "uchar") put(out, static_cast<std::uint8_t>(f.size()), big_endian);
+    else put(out, static_cast<std::uint16_t>(f.size()), big_endian);
+    for (std::uint32_t v : f) {
+      if (ascii) os << ' ' << v;
+      else if (index_type == "int") put(out, static_cast<std::int32_t>(v), big_endian);
+      else put(out, v, big_endian);
+    }
+    if (ascii) os << '\n';
+  }
+  return out + os.str();
+}
+
+TEST(PlyReader, FacesOfAnIndexListAloneReadAsTheAsciiFileReadsThem) {
+  for (const char* count_type : {"uchar", "ushort"})
+    for (const char* index_type : {"int", "uint"}) {
+      SCOPED_TRACE(std::string(count_type) + " " + index_type);
+      const PolygonSoup ascii = read_ply(index_list_ply("ascii", count_type, index_type), "s.ply");
+      ASSERT_EQ(test::soup_faces(ascii).size(), 8u);
+      for (const char* format : {"binary_little_endian", "binary_big_endian"}) {
+        SCOPED_TRACE(format);
+        const PolygonSoup binary = read_ply(index_list_ply(format, count_type, index_type), "s.ply");
+        expect_same_soup(binary, ascii);
+        EXPECT_EQ(binary.elements.corner_normals, ascii.elements.corner_normals);
+        EXPECT_EQ(binary.elements.corner_uvs, ascii.elements.corner_uvs);
+        // What the PLY writer keeps of the list: each face's length and its entries.
+        const PlyColumn& b = binary.ply->elements[1].columns[0];
+        const PlyColumn& a = ascii.ply->elements[1].columns[0];
+        EXPECT_EQ(b.lengths, a.lengths);
+        EXPECT_EQ(b.values, a.values);
+      }
+    }
 }
 
 // ---------------------------------------------------------------------------------------
