@@ -435,6 +435,9 @@ TEST(ReaderMutations, EveryMutationIsReadOrRefusedWithInputError) {
   run_mutations(tetra_ascii_stl(), stl, 4, n, tally);
   run_mutations(tetra_binary_stl(), stl, 5, n, tally);
   run_mutations(tetra_binary_stl({}, "binary, no solid"), stl, 6, n, tally);
+  // Faces of an index list alone, which binary files read straight from the bytes.
+  run_mutations(index_list_ply("binary_little_endian", "uchar", "int"), ply, 9, n / 4, tally);
+  run_mutations(index_list_ply("binary_big_endian", "ushort", "uint"), ply, 10, n / 4, tally);
   // And a few on ffdtool's own output of the bunny, a real-size file.
   const std::string dir = test::temp_folder("mutations");
   write_mesh(dir + "/bunny.ply", test::bunny());
@@ -444,7 +447,7 @@ TEST(ReaderMutations, EveryMutationIsReadOrRefusedWithInputError) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("mutations: %zu runs, %zu read, %zu refused, %.2f s\n", tally.runs, tally.accepted, tally.refused,
               seconds);
-  EXPECT_EQ(tally.runs, 6u * n + 200);
+  EXPECT_EQ(tally.runs, 6u * n + 2u * (n / 4) + 200);
   EXPECT_GT(tally.refused, tally.runs / 4);  // the mutations do break files
   EXPECT_LT(seconds, 10.0);
 }
