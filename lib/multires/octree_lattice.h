@@ -446,7 +446,7 @@ private:
   mutable std::vector<std::vector<Tag, HugePageAllocator<Tag>>> cache_;
   // The tags' Jacobian parts, by the same index, for the applies that carry normals: an
   // apply without normals needs only the parts' bounds, and its tags are half the size.
-  mutable std::vector<std::vector<Eigen::Matrix3d>> jacobians_;
+  mutable std::vector<std::vector<Eigen::Matrix3d, HugePageAllocator<Eigen::Matrix3d>>> jacobians_;
 };
 
 }  // namespace ffd

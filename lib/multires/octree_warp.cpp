@@ -399,7 +399,13 @@ std::vector<std::size_t> OctreeLattice::assign_tags(const Eigen::Ref<const Eigen
       prefault(tags.data() + tags.size(), (count - tags.size()) * sizeof(Tag));
     }
     tags.resize(count);  // one allocation: the new tags, not yet located
-    if (with_jacobians) jacobians_[static_cast<std::size_t>(l)].resize(count);
+    if (!with_jacobians) continue;
+    auto& parts = jacobians_[static_cast<std::size_t>(l)];
+    if (count > parts.capacity()) {  // as the tags: faulted in at once (each 4 KiB page traps on a VM)
+      parts.reserve(std::max(count, 2 * parts.size()));
+      prefault(parts.data() + parts.size(), (count - parts.size()) * sizeof(Eigen::Matrix3d));
+    }
+    parts.resize(count);
   }
   return first_new;
 }
