@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -212,7 +213,10 @@ bool read_face_fast(std::string_view line, const char* readable, std::int32_t gr
                     std::vector<std::int64_t>& corners) {
   const char* p = line.data() + 1;
   const char* end = line.data() + line.size();
-  if (read_plain_face(p, end, readable, group, n, soup)) return true;
+  // A line with a '/' has UV or normal indices: not a plain face (which would parse its
+  // first index before finding out).
+  const bool plain = std::memchr(p, '/', static_cast<std::size_t>(end - p)) == nullptr;
+  if (plain && read_plain_face(p, end, readable, group, n, soup)) return true;
   corners.clear();
   for (p = skip_blanks(p, end); p < end; p = skip_blanks(p, end)) {
     std::int64_t c[3];
