@@ -134,6 +134,11 @@ private:
   const std::vector<Eigen::Vector3d>& moved_;
 };
 
+/// Whether the file normals are one per vertex, entry v at vertex v (PLY, NOFF).
+bool one_per_vertex(const Mesh& mesh) {
+  return (mesh.file_normals_per_vertex || mesh.ply_source_as_read()) && mesh.file_normals().size() == mesh.num_vertices();
+}
+
 }  // namespace
 
 CornerNormals transformed_file_normals(const Mesh& mesh, const NormalTransform& transform) {
@@ -196,7 +201,7 @@ VertexFileNormals vertex_file_normals(const Mesh& mesh, const NormalTransform& t
   }
   // A PLY's or NOFF's normals are one per vertex (their readers make the table so): a
   // vertex in no element, a point of a cloud, has its own too.
-  if ((mesh.file_normals_per_vertex || mesh.ply_source_as_read()) && mesh.file_normals().size() == mesh.num_vertices())
+  if (one_per_vertex(mesh))
     for (std::uint32_t v = 0; v < out.has.size(); ++v)
       if (!out.has[v]) take(v, mesh.file_normals()[v]);
   if (!transform) return out;
@@ -214,8 +219,7 @@ VertexFileNormals vertex_file_normals(const Mesh& mesh, const NormalTransform& t
 
 bool every_vertex_has_file_normal(const Mesh& mesh) {
   if (!mesh.has_file_normals()) return false;
-  if ((mesh.file_normals_per_vertex || mesh.ply_source_as_read()) && mesh.file_normals().size() == mesh.num_vertices())
-    return true;  // vertex_file_normals takes each vertex's own
+  if (one_per_vertex(mesh)) return true;  // vertex_file_normals takes each vertex's own
   const MeshElements& el = mesh.elements();
   if (el.corner_normals.empty()) return false;
   std::vector<char> has(mesh.num_vertices(), 0);

@@ -549,11 +549,11 @@ void read_vertices(Cursor& cur, const Element& e, const VertexLayout& layout, Pl
 
 // Appends the polygon on `corners` (vertex indices) to the soup, with the vertex's UV and
 // normal when the file has them.
-void add_polygon(const std::vector<std::uint32_t>& corners, std::size_t line, const VertexLayout& layout,
+void add_polygon(const std::uint32_t* corners, std::size_t n, std::size_t line, const VertexLayout& layout,
                  PolygonSoup& soup) {
-  for (const std::uint32_t v : corners)
-    soup.elements.add_corner(v, layout.uvs() ? static_cast<std::int32_t>(v) : -1,
-                             layout.normals() ? static_cast<std::int32_t>(v) : -1);
+  for (std::size_t k = 0; k < n; ++k)
+    soup.elements.add_corner(corners[k], layout.uvs() ? static_cast<std::int32_t>(corners[k]) : -1,
+                             layout.normals() ? static_cast<std::int32_t>(corners[k]) : -1);
   soup.elements.close(ElementKind::Polygon, -1, line);
 }
 
@@ -567,8 +567,8 @@ std::uint32_t vertex_index(Cursor& cur, double x, std::uint64_t vertices) {
 
 // One face of a binary file whose only property is its index list of 4-byte integers
 // (`list uchar int vertex_indices`, what most exporters write), straight from the bytes:
-// what read_item, vertex_index and add_polygon do with it, without their per-value
-// dispatch (they were 76% of reading a 1M-vertex binary PLY). False, with nothing read,
+// what read_item and vertex_index do with it, without their per-value dispatch (with
+// add_polygon, 76% of reading a 1M-vertex binary PLY), then add_polygon. False, with nothing read,
 // for a face that needs their checks (fewer than 3 or more than 16 entries, an index out
 // of range, the file's end): the caller reads that one the general way, which words the
 // error.
@@ -598,10 +598,7 @@ bool read_binary_face(Cursor& cur, const Property& p, PlyColumn& c, std::uint64_
   cur.take(count_size + 4 * n);
   c.lengths.push_back(n);
   c.values.insert(c.values.end(), value, value + 4 * n);
-  for (std::uint32_t k = 0; k < n; ++k)
-    soup.elements.add_corner(index[k], layout.uvs() ? static_cast<std::int32_t>(index[k]) : -1,
-                             layout.normals() ? static_cast<std::int32_t>(index[k]) : -1);
-  soup.elements.close(ElementKind::Polygon);
+  add_polygon(index, n, 0, layout, soup);
   return true;
 }
 
@@ -639,7 +636,7 @@ void read_polygons(Cursor& cur, const Element& e, std::uint64_t vertices, const 
       for (const double x : indices) corners.push_back(vertex_index(cur, x, vertices));
       // Checked here, not only in build_mesh: it bounds the memory a face takes per byte.
       if (corners.size() < 3) cur.fail("a face needs at least 3 vertices, found " + std::to_string(corners.size()));
-      add_polygon(corners, line, layout, soup);
+      add_polygon(corners.data(), corners.size(), line, layout, soup);
       continue;
     }
     std::vector<std::uint32_t> strip;
@@ -654,7 +651,7 @@ void read_polygons(Cursor& cur, const Element& e, std::uint64_t vertices, const 
       const std::uint32_t a = strip[n - 3], b = strip[n - 2], c = strip[n - 1];
       if (a == b || b == c || a == c) continue;
       corners.assign({n % 2 ? a : b, n % 2 ? b : a, c});
-      add_polygon(corners, line, layout, soup);
+      add_polygon(corners.data(), corners.size(), line, layout, soup);
     }
   }
 }
