@@ -7,8 +7,8 @@
 //   (padding 0.05) with its centre point moved, 1 and 2 threads: process wall time, peak
 //   RSS per vertex, the stats' read, move step and write; against Blender doing the same
 //   job with one thread (blender_peer.py `job`, as the io suite runs it).
-// - sphere_move_step: the 1-thread move step against Blender's Lattice modifier alone on
-//   the same file (blender_peer.py `kernel`).
+// - sphere_move_step: the 1-thread move step against Blender's evaluation of the same file
+//   with its Lattice modifier, and against the modifier alone (blender_peer.py `kernel`).
 // - cloud_move_step: 1M points uniform in [0,1]^3 as binary PLY (doubles, no normals), a
 //   lattice on that box with one point moved by 0.1 on each axis: cubic B-spline 4^3 cells
 //   (centre point [2,2,2]) and Bernstein degree 3 ([1,1,1]), one thread; against PyGeM's
@@ -19,7 +19,8 @@
 //   a mesh vertex at each level 0..5 in turn: each move step's ms.
 // - bcm_detail_frame: a generated 33k-vertex head, a k = 3 bcm editor with detail on a
 //   ~30k-vertex support around the nose, then 1 or 1001 transform frames of its handle:
-//   per frame = (wall(1001 frames) - wall(1 frame)) / 1000, default threads and one.
+//   per frame = (wall(1001 frames) - wall(1 frame)) / 1000, default threads (the target)
+//   and one.
 // --quick: a 100k-vertex sphere, 100k points, 101 frames, one run each.
 #include <algorithm>
 #include <cmath>
@@ -198,13 +199,17 @@ json sphere_move_row(const Context& ctx, const std::string& blender, const TempF
   const json peer = blender_medians(blender, args, dir, 1, {"baseline_ms", "lattice_ms", "modifier_ms"});
   row["blender"] = peer;
   if (!peer.contains("modifier_ms")) return row;
-  const double ratio = peer["modifier_ms"].get<double>() / move_ms;
-  row["blender_evaluation_over_move_step"] = peer["lattice_ms"].get<double>() / move_ms;
-  row["blender_modifier_over_move_step"] = ratio;
+  const double evaluation = peer["lattice_ms"].get<double>() / move_ms;
+  const double modifier = peer["modifier_ms"].get<double>() / move_ms;
+  row["blender_evaluation_over_move_step"] = evaluation;
+  row["blender_modifier_over_move_step"] = modifier;
   // The modifier alone is the difference of two evaluations of the whole mesh; when it is
   // not above zero it is lost in their noise and says nothing.
-  if (ratio <= 0) row["note"] = "Blender's evaluation was not slower with the modifier than without: its cost is within the noise";
-  row["target"] = target("blender_modifier_over_move_step_at_least", 10, ratio >= 10);
+  if (modifier <= 0) row["note"] = "Blender's evaluation was not slower with the modifier than without: its cost is within the noise";
+  // The target is the speed issue's: 10x Blender's evaluation of the mesh with its Lattice
+  // modifier (the issue measured 384 ms for it; `lattice_ms` here). The modifier alone is
+  // reported beside it, not held to 10x: our move step also re-evaluates the normals.
+  row["target"] = target("blender_evaluation_over_move_step_at_least", 10, evaluation >= 10);
   return row;
 }
 
@@ -492,21 +497,23 @@ json bcm_row(const Context& ctx, const std::string& ffdtool, const TempFolder& d
   const ToolRuns many = run_ffdtool(ffdtool, dir, head_path, many_script, dir.file("head-out.off"), threads, ctx.repeats);
   const double per_frame = (many.ms - one.ms) / (frames - 1);
   const json& setup = many.stats.front()["steps"][0];
-  return {{"threads", threads ? json(threads) : json("default")},
-          {"vertices", head.num_vertices()},
-          {"support_vertices", setup.value("support_vertices", 0)},
-          {"handle_vertices", setup.value("handle_vertices", 0)},
-          {"frames", frames},
-          {"wall_1_frame_ms", one.ms},
-          {"wall_frames_ms", many.ms},
-          {"minor_faults_frames_run", many.minor_faults},
-          {"per_frame_ms", per_frame},
-          // The setup twice: its spread between the two runs is the per-frame figure's noise.
-          {"bcm_step_ms", many.step_ms(0)},
-          {"bcm_step_ms_1_frame_run", one.step_ms(0)},
-          {"transform_step_ms", many.step_ms(1)},
-          {"stats_frame_ms", many.stat([](const json& s) { return s["steps"][1].value("frame_ms", 0.0); })},
-          {"target", target("per_frame_ms_at_most", 0.3, per_frame <= 0.3)}};
+  json row = {{"threads", threads ? json(threads) : json("default")},
+              {"vertices", head.num_vertices()},
+              {"support_vertices", setup.value("support_vertices", 0)},
+              {"handle_vertices", setup.value("handle_vertices", 0)},
+              {"frames", frames},
+              {"wall_1_frame_ms", one.ms},
+              {"wall_frames_ms", many.ms},
+              {"minor_faults_frames_run", many.minor_faults},
+              {"per_frame_ms", per_frame},
+              // The setup twice: its spread between the two runs is the per-frame figure's noise.
+              {"bcm_step_ms", many.step_ms(0)},
+              {"bcm_step_ms_1_frame_run", one.step_ms(0)},
+              {"transform_step_ms", many.step_ms(1)},
+              {"stats_frame_ms", many.stat([](const json& s) { return s["steps"][1].value("frame_ms", 0.0); })}};
+  // The target is for default threads; one thread is reported beside it.
+  if (threads == 0) row["target"] = target("per_frame_ms_at_most", 0.3, per_frame <= 0.3);
+  return row;
 }
 
 json bcm_rows(const Context& ctx, const std::string& ffdtool, const TempFolder& dir) {
